@@ -1,0 +1,1 @@
+//! Agent runtime: connection, per-cycle pipeline, team hosting, reconnects.

@@ -1,0 +1,1 @@
+//! Behavior trees and strategy files in RON: language, validation, interpretation and hot reload.

@@ -1,0 +1,372 @@
+//! Robot model schema: joints as the server names them, limits, gains and geometry.
+
+use crate::location::{Located, SourceLocation};
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+use std::path::Path;
+
+/// Which simulator a robot model belongs to (and so which wire dialect it speaks).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ServerKind {
+    /// rcssservermj (MuJoCo): position/velocity/torque motor commands in degrees.
+    RcssMj,
+    /// SimSpark rcssserver3d: joint velocity effectors in rad/s.
+    SimSpark,
+}
+
+/// Position and damping gains for a joint motor (rcssservermj `kp`, `kd`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Gains {
+    /// N·m/rad
+    pub kp: f64,
+    /// N·m·s/rad
+    pub kd: f64,
+}
+
+/// Index of a joint within its robot model (the order of `RobotModel::joints`).
+pub type JointId = usize;
+
+/// One actuated hinge joint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Joint {
+    /// Our name for the joint, e.g. `left_hip_pitch`.
+    pub name: String,
+    /// The effector/actuator name the server accepts, e.g. `lle1`.
+    pub effector: String,
+    /// The perceptor name the server reports the angle under, e.g. `q_llj1` or `llj1`.
+    pub perceptor: String,
+    /// The joint this one is mounted on; `None` means the torso.
+    #[serde(default)]
+    pub parent: Option<String>,
+    /// Position of this joint's axis point in the parent joint's frame at zero pose [m].
+    #[serde(default)]
+    pub origin: [f64; 3],
+    /// Rotation axis in the joint's own frame (unit vector; zero pose frames are parallel to the torso).
+    pub axis: [f64; 3],
+    /// Lower and upper angle limits [deg].
+    pub limits_deg: (f64, f64),
+    /// Largest torque the motor delivers [N·m].
+    pub max_torque: f64,
+    /// Largest joint speed the server allows [deg/s], where it has one.
+    #[serde(default)]
+    pub max_speed_deg: Option<f64>,
+    /// Gains used when a skill does not say otherwise.
+    pub gains: Gains,
+}
+
+/// A named point of interest fixed to a joint's link (camera, soles, vision markers).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Frame {
+    pub name: String,
+    /// The joint whose link carries this frame; `None` means the torso.
+    #[serde(default)]
+    pub parent: Option<String>,
+    /// Position in the parent joint's frame [m].
+    pub origin: [f64; 3],
+}
+
+/// A complete robot description.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RobotModel {
+    /// Model name as sent in `init` (rcssservermj) or as known to SimSpark, e.g. `T1`, `NAO`.
+    pub name: String,
+    pub server: ServerKind,
+    /// SimSpark scene file, e.g. `rsg/agent/nao/nao_hetero.rsg`.
+    #[serde(default)]
+    pub scene: Option<String>,
+    /// SimSpark heterogeneous robot type (0–4).
+    #[serde(default)]
+    pub hetero_type: Option<u8>,
+    /// Total mass [kg].
+    pub mass: f64,
+    /// Torso origin height when standing straight on flat ground [m].
+    pub standing_torso_height: f64,
+    pub joints: Vec<Joint>,
+    #[serde(default)]
+    pub frames: Vec<Frame>,
+}
+
+/// Why a robot model could not be used.
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error("cannot read {path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{}", format_all(.0))]
+    Invalid(Vec<Located>),
+    #[error("no built-in robot model named `{0}` (known: {1})")]
+    UnknownBuiltin(String, String),
+}
+
+fn format_all(errors: &[Located]) -> String {
+    errors
+        .iter()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The robot models shipped with Libero, by file name.
+const BUILTIN: &[(&str, &str)] = &[("T1", include_str!("../robots/t1.ron"))];
+
+impl RobotModel {
+    /// Names of the robot models shipped with the engine.
+    pub fn builtin_names() -> Vec<&'static str> {
+        BUILTIN.iter().map(|(name, _)| *name).collect()
+    }
+
+    /// A shipped robot model by name (case-insensitive), parsed and validated.
+    pub fn builtin(name: &str) -> Result<Self, ModelError> {
+        let (file, text) = BUILTIN
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .ok_or_else(|| {
+                ModelError::UnknownBuiltin(name.to_string(), Self::builtin_names().join(", "))
+            })?;
+        Self::from_ron(&format!("<builtin>/{file}.ron"), text)
+    }
+
+    /// Load and validate a robot model file.
+    pub fn load(path: &Path) -> Result<Self, ModelError> {
+        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::from_ron(&path.display().to_string(), &text)
+    }
+
+    /// Parse and validate RON text; `file` names the source in error messages.
+    pub fn from_ron(file: &str, text: &str) -> Result<Self, ModelError> {
+        let model: RobotModel = ron::from_str(text).map_err(|e| {
+            ModelError::Invalid(vec![Located {
+                file: file.to_string(),
+                at: SourceLocation {
+                    line: e.position.line,
+                    column: e.position.col,
+                },
+                message: e.code.to_string(),
+            }])
+        })?;
+        let errors = model.problems(file, text);
+        if errors.is_empty() {
+            Ok(model)
+        } else {
+            Err(ModelError::Invalid(errors))
+        }
+    }
+
+    /// Every semantic problem of the model, located in `text` where possible.
+    fn problems(&self, file: &str, text: &str) -> Vec<Located> {
+        let mut errors = Vec::new();
+        let mut report = |needle: &str, message: String| {
+            errors.push(Located {
+                file: file.to_string(),
+                at: SourceLocation::of_first(text, needle).unwrap_or_default(),
+                message,
+            })
+        };
+        if self.joints.is_empty() {
+            report("joints", "a robot model needs at least one joint".into());
+        }
+        let mut names = HashSet::new();
+        let mut effectors = HashSet::new();
+        let mut perceptors = HashSet::new();
+        for joint in &self.joints {
+            let here = format!("\"{}\"", joint.name);
+            if !names.insert(joint.name.as_str()) {
+                report(&here, format!("joint `{}` is defined twice", joint.name));
+            }
+            if !effectors.insert(joint.effector.as_str()) {
+                report(
+                    &here,
+                    format!("effector `{}` is used twice", joint.effector),
+                );
+            }
+            if !perceptors.insert(joint.perceptor.as_str()) {
+                report(
+                    &here,
+                    format!("perceptor `{}` is used twice", joint.perceptor),
+                );
+            }
+            if !is_wire_atom(&joint.effector) || !is_wire_atom(&joint.perceptor) {
+                report(
+                    &here,
+                    format!(
+                        "joint `{}`: effector and perceptor names must be plain atoms (letters, digits, `_`)",
+                        joint.name
+                    ),
+                );
+            }
+            let (lo, hi) = joint.limits_deg;
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                report(
+                    &here,
+                    format!("joint `{}`: limits_deg must be finite with lower < upper, got ({lo}, {hi})", joint.name),
+                );
+            }
+            let norm = joint.axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+            if !(norm - 1.0).abs().lt(&1e-6) {
+                report(
+                    &here,
+                    format!(
+                        "joint `{}`: axis must be a unit vector (length is {norm})",
+                        joint.name
+                    ),
+                );
+            }
+            if !(joint.max_torque.is_finite() && joint.max_torque > 0.0) {
+                report(
+                    &here,
+                    format!("joint `{}`: max_torque must be positive", joint.name),
+                );
+            }
+            if !(joint.gains.kp >= 0.0
+                && joint.gains.kd >= 0.0
+                && joint.gains.kp.is_finite()
+                && joint.gains.kd.is_finite())
+            {
+                report(
+                    &here,
+                    format!(
+                        "joint `{}`: gains must be finite and non-negative",
+                        joint.name
+                    ),
+                );
+            }
+            if joint.origin.iter().any(|v| !v.is_finite()) {
+                report(
+                    &here,
+                    format!("joint `{}`: origin must be finite", joint.name),
+                );
+            }
+        }
+        let known: HashSet<&str> = self.joints.iter().map(|j| j.name.as_str()).collect();
+        for (i, joint) in self.joints.iter().enumerate() {
+            if let Some(parent) = &joint.parent {
+                let earlier = self.joints[..i].iter().any(|j| &j.name == parent);
+                if !earlier {
+                    let hint = if known.contains(parent.as_str()) {
+                        "it must be listed before its children"
+                    } else {
+                        "no joint has that name"
+                    };
+                    report(
+                        &format!("\"{}\"", joint.name),
+                        format!(
+                            "joint `{}`: parent `{parent}` is not usable: {hint}",
+                            joint.name
+                        ),
+                    );
+                }
+            }
+        }
+        let mut frame_names = HashSet::new();
+        for frame in &self.frames {
+            let here = format!("\"{}\"", frame.name);
+            if !frame_names.insert(frame.name.as_str()) {
+                report(&here, format!("frame `{}` is defined twice", frame.name));
+            }
+            if let Some(parent) = &frame.parent {
+                if !known.contains(parent.as_str()) {
+                    report(
+                        &here,
+                        format!(
+                            "frame `{}`: parent joint `{parent}` does not exist",
+                            frame.name
+                        ),
+                    );
+                }
+            }
+        }
+        if self.server == ServerKind::SimSpark && self.scene.is_none() {
+            report("server", "a SimSpark robot needs a `scene` path".into());
+        }
+        if !(self.standing_torso_height > 0.0 && self.mass > 0.0) {
+            report(
+                "mass",
+                "mass and standing_torso_height must be positive".into(),
+            );
+        }
+        errors
+    }
+
+    /// The joint with our name `name`.
+    pub fn joint_id(&self, name: &str) -> Option<JointId> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// The joint the server reports under `perceptor`.
+    pub fn joint_by_perceptor(&self, perceptor: &str) -> Option<JointId> {
+        self.joints.iter().position(|j| j.perceptor == perceptor)
+    }
+
+    /// The named frame (camera, soles, ...).
+    pub fn frame(&self, name: &str) -> Option<&Frame> {
+        self.frames.iter().find(|f| f.name == name)
+    }
+
+    /// `angle` clamped into the joint's limits.
+    pub fn clamp_deg(&self, joint: JointId, angle: f64) -> f64 {
+        let (lo, hi) = self.joints[joint].limits_deg;
+        angle.clamp(lo, hi)
+    }
+}
+
+/// True when `name` can be sent to a server as one atom without any escaping.
+fn is_wire_atom(name: &str) -> bool {
+    !name.is_empty() && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_model_loads() {
+        for name in RobotModel::builtin_names() {
+            let model = RobotModel::builtin(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(!model.joints.is_empty());
+        }
+    }
+
+    #[test]
+    fn t1_has_the_servers_23_actuators_in_message_order() {
+        let t1 = RobotModel::builtin("t1").unwrap();
+        let effectors: Vec<&str> = t1.joints.iter().map(|j| j.effector.as_str()).collect();
+        assert_eq!(
+            effectors,
+            [
+                "he1", "he2", "lae1", "lae2", "lae3", "lae4", "rae1", "rae2", "rae3", "rae4",
+                "te1", "lle1", "lle2", "lle3", "lle4", "lle5", "lle6", "rle1", "rle2", "rle3",
+                "rle4", "rle5", "rle6"
+            ]
+        );
+        assert_eq!(t1.joint_by_perceptor("q_rlj6"), Some(22));
+    }
+
+    #[test]
+    fn semantic_errors_are_located_and_all_reported() {
+        let text = include_str!("../robots/t1.ron");
+        let broken = text
+            .replacen("effector: \"he2\"", "effector: \"he1\"", 1)
+            .replacen("limits_deg: (-90.0, 90.0)", "limits_deg: (90.0, -90.0)", 1);
+        let Err(ModelError::Invalid(errors)) = RobotModel::from_ron("t1.ron", &broken) else {
+            panic!("broken model accepted");
+        };
+        assert_eq!(errors.len(), 2, "{errors:?}");
+        assert!(errors.iter().all(|e| e.at.line > 1));
+        assert!(errors[0].message.contains("effector `he1` is used twice"));
+    }
+
+    #[test]
+    fn syntax_errors_carry_a_position() {
+        let Err(ModelError::Invalid(errors)) =
+            RobotModel::from_ron("x.ron", "RobotModel(\n  name: 3,\n)")
+        else {
+            panic!("accepted");
+        };
+        assert_eq!(errors[0].at.line, 2);
+    }
+}

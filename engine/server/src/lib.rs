@@ -1,0 +1,1 @@
+//! Provisioning and control of a local rcssservermj: virtualenv, process, monitor port.

@@ -1,0 +1,1 @@
+//! World state: self, ball, players and game state estimated from percepts.
