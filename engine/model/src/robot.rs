@@ -357,7 +357,8 @@ mod tests {
         };
         assert_eq!(errors.len(), 2, "{errors:?}");
         assert!(errors.iter().all(|e| e.at.line > 1));
-        assert!(errors[0].message.contains("effector `he1` is used twice"));
+        assert!(errors.iter().any(|e| e.message.contains("effector `he1` is used twice")));
+        assert!(errors.iter().any(|e| e.message.contains("lower < upper")));
     }
 
     #[test]
