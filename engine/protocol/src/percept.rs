@@ -1,0 +1,346 @@
+//! Typed percepts: one server message turned into named, unit-documented fields.
+//!
+//! Both dialects land in the same [`Percept`]. Vectors from the body's sensors are given in one
+//! robot frame for both servers: **x forward, y left, z up** (SimSpark's x-right/y-forward
+//! readings are rotated here, once). Angles stay in degrees as on the wire.
+
+use crate::sexp::{self, List, Sexp, SexpError};
+use libero_model::ServerKind;
+
+/// A point seen by the camera, in the camera's polar coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Polar {
+    /// Distance from the camera [m].
+    pub distance: f64,
+    /// Horizontal angle [deg], positive to the left.
+    pub azimuth_deg: f64,
+    /// Vertical angle [deg], positive up.
+    pub elevation_deg: f64,
+}
+
+/// One joint reading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointReading<'a> {
+    /// The perceptor name, e.g. `q_llj1` or `llj1`.
+    pub perceptor: &'a str,
+    /// Angle [deg].
+    pub angle_deg: f64,
+    /// Angular velocity [deg/s]; rcssservermj only.
+    pub velocity_deg: Option<f64>,
+}
+
+/// Contact force on a foot (SimSpark `FRP`), in the robot frame convention.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FootContact<'a> {
+    pub name: &'a str,
+    /// Centre of pressure in the foot frame [m].
+    pub point: [f64; 3],
+    /// Force on the foot [N].
+    pub force: [f64; 3],
+}
+
+/// A named object seen in the camera (a landmark, or a body part of a player).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Seen<'a> {
+    pub name: &'a str,
+    pub at: Polar,
+}
+
+/// A robot seen in the camera.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SeenPlayer<'a> {
+    pub team: &'a str,
+    pub unum: u32,
+    /// Visible parts (`head`, `lfoot`, `rfoot`, `llowerarm`, ...).
+    pub parts: Vec<Seen<'a>>,
+}
+
+/// A visible field line segment (SimSpark only).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeenLine {
+    pub from: Polar,
+    pub to: Polar,
+}
+
+/// One vision frame.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Vision<'a> {
+    /// Fixed landmarks by their server name (`l_luf`, `g_rup`, `F1L`, `G2R`, ...).
+    pub landmarks: Vec<Seen<'a>>,
+    pub ball: Option<Polar>,
+    pub players: Vec<SeenPlayer<'a>>,
+    pub lines: Vec<SeenLine>,
+}
+
+/// Which team a message came from, relative to the listener.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HeardFrom<'a> {
+    /// Our own message echoed back (SimSpark `self`).
+    Myself,
+    /// A direction [deg]: rcssservermj = azimuth in the head frame; SimSpark = bearing in the
+    /// listener's team field frame.
+    Direction(f64),
+    /// Direction not given.
+    Unknown(&'a str),
+}
+
+/// A message heard.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Heard<'a> {
+    /// Speaker's team name (SimSpark only).
+    pub team: Option<&'a str>,
+    /// Game time of the message (SimSpark only).
+    pub time: Option<f64>,
+    pub from: HeardFrom<'a>,
+    /// The message as sent: base64 text on rcssservermj, plain text on SimSpark.
+    pub message: &'a str,
+}
+
+/// The `GS` game-state block.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GameStatePercept<'a> {
+    /// Play time [s].
+    pub play_time: Option<f64>,
+    /// Play-mode name as sent by the server.
+    pub play_mode: Option<&'a str>,
+    pub team_left: Option<&'a str>,
+    pub team_right: Option<&'a str>,
+    pub score_left: Option<u32>,
+    pub score_right: Option<u32>,
+    /// SimSpark: our uniform number, sent once after a successful init.
+    pub unum: Option<u32>,
+    /// SimSpark: `left` or `right`, sent once after a successful init.
+    pub side: Option<&'a str>,
+}
+
+/// Everything one perception message says.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Percept<'a> {
+    /// Server simulation time [s] (not play time).
+    pub time: Option<f64>,
+    pub game: GameStatePercept<'a>,
+    /// Ground-truth torso orientation, quaternion w, x, y, z (rcssservermj; tests and evaluation only).
+    pub truth_orientation: Option<[f64; 4]>,
+    /// Ground-truth torso position [m] (rcssservermj; tests and evaluation only).
+    pub truth_position: Option<[f64; 3]>,
+    /// Torso angular velocity [deg/s], robot frame.
+    pub gyro: Option<[f64; 3]>,
+    /// Torso specific force [m/s²], robot frame (≈ +9.81 on z when upright).
+    pub accel: Option<[f64; 3]>,
+    pub joints: Vec<JointReading<'a>>,
+    pub foot_contacts: Vec<FootContact<'a>>,
+    pub vision: Option<Vision<'a>>,
+    pub heard: Vec<Heard<'a>>,
+    /// Top-level items we did not recognise or could not read, by name (for diagnostics).
+    pub skipped: Vec<&'a str>,
+}
+
+/// Why a message could not be read at all.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PerceptError {
+    #[error("the message is not UTF-8 text")]
+    NotText,
+    #[error("malformed message: {0}")]
+    Syntax(#[from] SexpError),
+}
+
+/// Turn a raw payload into a percept. Items that are malformed are listed in `skipped`; only a
+/// message that is not text or not balanced is an error.
+pub fn parse_percept(payload: &[u8], server: ServerKind) -> Result<Percept<'_>, PerceptError> {
+    let text = std::str::from_utf8(payload).map_err(|_| PerceptError::NotText)?;
+    parse_percept_str(text, server)
+}
+
+/// As [`parse_percept`], from text.
+pub fn parse_percept_str(text: &str, server: ServerKind) -> Result<Percept<'_>, PerceptError> {
+    let mut p = Percept {
+        joints: Vec::with_capacity(26),
+        ..Percept::default()
+    };
+    for item in sexp::top_level(text) {
+        let item = item?;
+        let Some(list) = item.as_list() else {
+            p.skipped.push(item.as_atom().unwrap_or(""));
+            continue;
+        };
+        let name = list.head().unwrap_or("");
+        let ok = match name {
+            "time" => list
+                .numbers::<1>("now")
+                .map(|[t]| p.time = Some(t))
+                .is_some(),
+            "GS" => read_game_state(list, &mut p.game),
+            "quat" => list
+                .numbers::<4>("q")
+                .map(|q| p.truth_orientation = Some(q))
+                .is_some(),
+            "pos" => list
+                .numbers::<3>("p")
+                .map(|v| p.truth_position = Some(v))
+                .is_some(),
+            "GYR" => list
+                .numbers::<3>("rt")
+                .map(|v| p.gyro = Some(to_robot_frame(v, server)))
+                .is_some(),
+            "ACC" => list
+                .numbers::<3>("a")
+                .map(|v| p.accel = Some(to_robot_frame(v, server)))
+                .is_some(),
+            "HJ" => read_joint(list).map(|j| p.joints.push(j)).is_some(),
+            "FRP" => read_foot(list, server)
+                .map(|f| p.foot_contacts.push(f))
+                .is_some(),
+            "See" => {
+                p.vision = Some(read_vision(list));
+                true
+            }
+            "MIC" => read_mic(list, &mut p.heard),
+            "hear" => read_hear(list).map(|h| p.heard.push(h)).is_some(),
+            _ => false,
+        };
+        if !ok {
+            p.skipped.push(name);
+        }
+    }
+    Ok(p)
+}
+
+/// SimSpark's body sensors use x right, y forward; ours are x forward, y left.
+fn to_robot_frame(v: [f64; 3], server: ServerKind) -> [f64; 3] {
+    match server {
+        ServerKind::RcssMj => v,
+        ServerKind::SimSpark => [v[1], -v[0], v[2]],
+    }
+}
+
+fn read_game_state<'a>(list: List<'a>, gs: &mut GameStatePercept<'a>) -> bool {
+    for child in list.tail().filter_map(|c| c.as_list()) {
+        let value = child.tail().next().and_then(|v| v.as_atom());
+        let Some(value) = value else { continue };
+        match child.head() {
+            Some("t") => gs.play_time = sexp::parse_finite(value),
+            Some("pm") => gs.play_mode = Some(value),
+            Some("tl") => gs.team_left = Some(value),
+            Some("tr") => gs.team_right = Some(value),
+            Some("sl") => gs.score_left = value.parse().ok(),
+            Some("sr") => gs.score_right = value.parse().ok(),
+            Some("unum") => gs.unum = value.parse().ok(),
+            Some("team") => gs.side = Some(value),
+            _ => {}
+        }
+    }
+    true
+}
+
+fn read_joint(list: List<'_>) -> Option<JointReading<'_>> {
+    Some(JointReading {
+        perceptor: list.value("n")?,
+        angle_deg: list.numbers::<1>("ax")?[0],
+        velocity_deg: list.numbers::<1>("vx").map(|[v]| v),
+    })
+}
+
+fn read_foot(list: List<'_>, server: ServerKind) -> Option<FootContact<'_>> {
+    Some(FootContact {
+        name: list.value("n")?,
+        point: to_robot_frame(list.numbers::<3>("c")?, server),
+        force: to_robot_frame(list.numbers::<3>("f")?, server),
+    })
+}
+
+fn read_polar(list: List<'_>) -> Option<Polar> {
+    let [distance, azimuth_deg, elevation_deg] = list.tail_numbers::<3>()?;
+    Some(Polar {
+        distance,
+        azimuth_deg,
+        elevation_deg,
+    })
+}
+
+fn read_vision(list: List<'_>) -> Vision<'_> {
+    let mut vision = Vision::default();
+    for item in list.tail().filter_map(|c| c.as_list()) {
+        match item.head() {
+            Some("P") => {
+                if let Some(player) = read_player(item) {
+                    vision.players.push(player);
+                }
+            }
+            Some("L") => {
+                let mut ends = item
+                    .tail()
+                    .filter_map(|c| c.as_list())
+                    .filter_map(read_polar);
+                if let (Some(from), Some(to)) = (ends.next(), ends.next()) {
+                    vision.lines.push(SeenLine { from, to });
+                }
+            }
+            Some("B") => vision.ball = item.child("pol").and_then(read_polar),
+            Some(name) => {
+                if let Some(at) = item.child("pol").and_then(read_polar) {
+                    vision.landmarks.push(Seen { name, at });
+                }
+            }
+            None => {}
+        }
+    }
+    vision
+}
+
+fn read_player(list: List<'_>) -> Option<SeenPlayer<'_>> {
+    let mut player = SeenPlayer {
+        team: list.value("team").unwrap_or(""),
+        unum: list.value("id")?.parse().ok()?,
+        parts: Vec::new(),
+    };
+    for part in list.tail().filter_map(|c| c.as_list()) {
+        if let (Some(name), Some(at)) = (part.head(), part.child("pol").and_then(read_polar)) {
+            player.parts.push(Seen { name, at });
+        }
+    }
+    Some(player)
+}
+
+/// rcssservermj: `(MIC hear (az b64) (az b64) …)`.
+fn read_mic<'a>(list: List<'a>, heard: &mut Vec<Heard<'a>>) -> bool {
+    for msg in list.tail().filter_map(|c| c.as_list()) {
+        let mut parts = msg.iter();
+        let (Some(az), Some(Sexp::Atom(text))) =
+            (parts.next().and_then(|a| a.as_f64()), parts.next())
+        else {
+            continue;
+        };
+        heard.push(Heard {
+            team: None,
+            time: None,
+            from: HeardFrom::Direction(az),
+            message: text,
+        });
+    }
+    true
+}
+
+/// SimSpark: `(hear TEAM T self|DIR MSG)`, or the older `(hear T self|DIR MSG)`.
+fn read_hear(list: List<'_>) -> Option<Heard<'_>> {
+    let mut atoms = [""; 4];
+    let mut count = 0;
+    for atom in list.tail() {
+        *atoms.get_mut(count)? = atom.as_atom()?;
+        count += 1;
+    }
+    let (team, rest) = match count {
+        4 => (Some(atoms[0]), &atoms[1..]),
+        3 => (None, &atoms[..3]),
+        _ => return None,
+    };
+    let from = match rest[1] {
+        "self" => HeardFrom::Myself,
+        dir => sexp::parse_finite(dir).map_or(HeardFrom::Unknown(dir), HeardFrom::Direction),
+    };
+    Some(Heard {
+        team,
+        time: sexp::parse_finite(rest[0]),
+        from,
+        message: rest[2],
+    })
+}
