@@ -22,11 +22,16 @@ pub enum FrameError {
 
 /// Reads whole frames from a byte stream, however the bytes are split across reads.
 ///
-/// The buffer is reused between frames, so steady-state reading does not allocate.
+/// A read that times out (`WouldBlock`/`TimedOut`) keeps what was already read, so a socket
+/// with a short read timeout can be polled without losing its place in the stream. The buffer
+/// is reused between frames, so steady-state reading does not allocate.
 pub struct FrameReader<R> {
     inner: R,
     buf: Vec<u8>,
     max: usize,
+    header: [u8; 4],
+    /// Bytes of the current frame read so far (header first, then payload).
+    filled: usize,
 }
 
 impl<R: Read> FrameReader<R> {
@@ -39,6 +44,8 @@ impl<R: Read> FrameReader<R> {
             inner,
             buf: Vec::with_capacity(4096),
             max,
+            header: [0; 4],
+            filled: 0,
         }
     }
 
@@ -48,37 +55,41 @@ impl<R: Read> FrameReader<R> {
 
     /// Block until the next whole frame has arrived and return its payload.
     pub fn read_frame(&mut self) -> Result<&[u8], FrameError> {
-        let mut header = [0u8; 4];
-        match read_full(&mut self.inner, &mut header)? {
-            0 => return Err(FrameError::Closed),
-            4 => {}
-            n => return Err(FrameError::Truncated(n, 4)),
+        while self.filled < 4 {
+            match self.inner.read(&mut self.header[self.filled..]) {
+                Ok(0) if self.filled == 0 => return Err(FrameError::Closed),
+                Ok(0) => return Err(FrameError::Truncated(self.filled, 4)),
+                Ok(n) => self.filled += n,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(FrameError::Io(e)),
+            }
+            if self.filled == 4 {
+                let len = u32::from_be_bytes(self.header) as usize;
+                if len > self.max {
+                    self.filled = 0;
+                    return Err(FrameError::TooLarge(len, self.max));
+                }
+                self.buf.clear();
+                self.buf.resize(len, 0);
+            }
         }
-        let len = u32::from_be_bytes(header) as usize;
-        if len > self.max {
-            return Err(FrameError::TooLarge(len, self.max));
+        let len = self.buf.len();
+        while self.filled - 4 < len {
+            match self.inner.read(&mut self.buf[self.filled - 4..]) {
+                Ok(0) => return Err(FrameError::Truncated(self.filled - 4, len)),
+                Ok(n) => self.filled += n,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(FrameError::Io(e)),
+            }
         }
-        self.buf.resize(len, 0);
-        let got = read_full(&mut self.inner, &mut self.buf)?;
-        if got < len {
-            return Err(FrameError::Truncated(got, len));
-        }
+        self.filled = 0;
         Ok(&self.buf)
     }
 }
 
-/// Fill `buf` unless the stream ends first; returns how many bytes were read.
-fn read_full(r: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
-    let mut filled = 0;
-    while filled < buf.len() {
-        match r.read(&mut buf[filled..]) {
-            Ok(0) => break,
-            Ok(n) => filled += n,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(filled)
+/// True for the errors a socket read timeout produces.
+pub fn is_timeout(e: &FrameError) -> bool {
+    matches!(e, FrameError::Io(io) if matches!(io.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut))
 }
 
 /// Append `payload` as one frame to `out`.
@@ -144,5 +155,46 @@ mod tests {
             reader.read_frame(),
             Err(FrameError::Truncated(2, 4))
         ));
+    }
+
+    /// Reads that time out in the middle of a frame do not lose the bytes already read.
+    struct Stutter {
+        data: Vec<u8>,
+        pos: usize,
+        calls: usize,
+    }
+
+    impl Read for Stutter {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            self.calls += 1;
+            if self.calls % 2 == 0 {
+                return Err(io::ErrorKind::WouldBlock.into());
+            }
+            let n = 3.min(buf.len()).min(self.data.len() - self.pos);
+            buf[..n].copy_from_slice(&self.data[self.pos..self.pos + n]);
+            self.pos += n;
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn timeouts_mid_frame_resume_where_they_stopped() {
+        let mut data = Vec::new();
+        encode_frame(b"(time (now 2.00))(GS (t 0))", &mut data);
+        let mut reader = FrameReader::new(Stutter {
+            data,
+            pos: 0,
+            calls: 0,
+        });
+        let mut timeouts = 0;
+        let frame = loop {
+            match reader.read_frame() {
+                Ok(f) => break f.to_vec(),
+                Err(e) if is_timeout(&e) => timeouts += 1,
+                Err(e) => panic!("{e}"),
+            }
+        };
+        assert_eq!(frame, b"(time (now 2.00))(GS (t 0))");
+        assert!(timeouts > 5);
     }
 }

@@ -10,5 +10,5 @@ pub mod percept;
 pub mod sexp;
 
 pub use action::{ActionWriter, MotorCommand};
-pub use frame::{encode_frame, FrameError, FrameReader};
+pub use frame::{encode_frame, is_timeout, FrameError, FrameReader};
 pub use percept::{parse_percept, parse_percept_str, Percept, PerceptError, Polar};

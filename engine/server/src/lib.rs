@@ -1,1 +1,40 @@
-//! Provisioning and control of a local rcssservermj: virtualenv, process, monitor port.
+//! A real rcssservermj on this machine, installed and run by the project itself.
+//!
+//! [`venv`] creates a git-ignored virtualenv and pip-installs the pinned server there on first
+//! use; [`process`] starts it headless on free loopback ports and stops exactly the process it
+//! started; [`monitor`] speaks the monitor port (kick-off, ball placement, game state).
+
+pub mod monitor;
+pub mod process;
+pub mod venv;
+
+pub use monitor::{GameSnapshot, Monitor};
+pub use process::{Rules, ServerOptions, ServerProcess};
+pub use venv::{ensure_installed, Installation, RCSSSMJ_VERSION};
+
+/// Why the server could not be provided.
+#[derive(Debug, thiserror::Error)]
+pub enum ServerError {
+    #[error("python3 was not found on PATH: install Python 3.10 or newer (Debian: `apt-get install python3 python3-venv`)")]
+    NoPython,
+    #[error("could not create the virtualenv at {path}: {detail}\nhint: on Debian install `python3-venv`; or set LIBERO_VENV to an existing virtualenv")]
+    Venv { path: String, detail: String },
+    #[error("pip could not install rcsssmj=={version} into {path}: {detail}\nhint: check that the package registry is reachable, or pre-install it and set LIBERO_VENV")]
+    Pip {
+        version: String,
+        path: String,
+        detail: String,
+    },
+    #[error("port {0} on 127.0.0.1 is already taken: stop whatever listens there or pick another port (or leave ports unset to use free ones)")]
+    PortTaken(u16),
+    #[error("the server exited during start-up ({status}); its log {log} ends with:\n{tail}")]
+    EarlyExit {
+        status: String,
+        log: String,
+        tail: String,
+    },
+    #[error("the server did not report ready within {0} s; see its log {1}")]
+    StartTimeout(u64, String),
+    #[error("{0}: {1}")]
+    Io(String, std::io::Error),
+}

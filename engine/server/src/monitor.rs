@@ -1,0 +1,169 @@
+//! The monitor port: game state out, referee-like commands in.
+
+use libero_protocol::frame::{encode_frame, FrameReader};
+use libero_protocol::sexp;
+use std::io::Write;
+use std::net::TcpStream;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// Play-mode names in the order of the monitor's `play_mode` index (rcsssmj `play_mode.py`).
+pub const PLAY_MODES: [&str; 23] = [
+    "BeforeKickOff",
+    "KickOff_Left",
+    "KickOff_Right",
+    "PlayOn",
+    "KickIn_Left",
+    "KickIn_Right",
+    "corner_kick_left",
+    "corner_kick_right",
+    "goal_kick_left",
+    "goal_kick_right",
+    "offside_left",
+    "offside_right",
+    "GameOver",
+    "Goal_Left",
+    "Goal_Right",
+    "free_kick_left",
+    "free_kick_right",
+    "direct_free_kick_left",
+    "direct_free_kick_right",
+    "penalty_kick_left",
+    "penalty_kick_right",
+    "penalty_shoot_left",
+    "penalty_shoot_right",
+];
+
+/// The latest game state the monitor stream reported.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GameSnapshot {
+    /// Play time [s].
+    pub time: f64,
+    pub half: u32,
+    pub score_left: u32,
+    pub score_right: u32,
+    pub play_mode: String,
+    /// Frames received so far.
+    pub frames: u64,
+}
+
+/// A monitor connection. A thread drains the stream (the server blocks on a full socket) and
+/// keeps the newest game state.
+pub struct Monitor {
+    writer: TcpStream,
+    state: Arc<Mutex<GameSnapshot>>,
+}
+
+impl Monitor {
+    pub fn connect(port: u16) -> std::io::Result<Self> {
+        let stream = TcpStream::connect(("127.0.0.1", port))?;
+        stream.set_nodelay(true)?;
+        let reader = stream.try_clone()?;
+        let state = Arc::new(Mutex::new(GameSnapshot::default()));
+        let shared = Arc::clone(&state);
+        std::thread::Builder::new()
+            .name("monitor-reader".into())
+            .spawn(move || {
+                let mut frames = FrameReader::with_limit(reader, 64 << 20);
+                while let Ok(frame) = frames.read_frame() {
+                    if let Ok(text) = std::str::from_utf8(frame) {
+                        if let Some(mut snapshot) = parse_game_state(text) {
+                            if let Ok(mut s) = shared.lock() {
+                                snapshot.frames = s.frames + 1;
+                                *s = snapshot;
+                            }
+                        }
+                    }
+                }
+            })?;
+        Ok(Self {
+            writer: stream,
+            state,
+        })
+    }
+
+    /// The newest game state.
+    pub fn snapshot(&self) -> GameSnapshot {
+        self.state.lock().map(|s| s.clone()).unwrap_or_default()
+    }
+
+    /// Send raw monitor commands, e.g. `(kickOff Left)`.
+    pub fn send(&mut self, commands: &str) -> std::io::Result<()> {
+        let mut out = Vec::with_capacity(commands.len() + 4);
+        encode_frame(commands.as_bytes(), &mut out);
+        self.writer.write_all(&out)
+    }
+
+    /// Kick off for the left team (nothing starts a game on its own).
+    pub fn kick_off_left(&mut self) -> std::io::Result<()> {
+        self.send("(kickOff Left)")
+    }
+
+    /// Place the ball and give it a velocity [m, m/s].
+    pub fn place_ball(&mut self, pos: [f64; 3], vel: [f64; 3]) -> std::io::Result<()> {
+        self.send(&format!(
+            "(ball (pos {} {} {})(vel {} {} {}))",
+            pos[0], pos[1], pos[2], vel[0], vel[1], vel[2]
+        ))
+    }
+
+    /// Wait until `pred` holds for the game state, or the timeout passes.
+    pub fn wait_for(
+        &self,
+        timeout: Duration,
+        pred: impl Fn(&GameSnapshot) -> bool,
+    ) -> Option<GameSnapshot> {
+        let deadline = Instant::now() + timeout;
+        while Instant::now() < deadline {
+            let s = self.snapshot();
+            if pred(&s) {
+                return Some(s);
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        None
+    }
+}
+
+impl Drop for Monitor {
+    fn drop(&mut self) {
+        let _ = self.writer.shutdown(std::net::Shutdown::Both);
+    }
+}
+
+/// The `((gs 1 0)(time …)(half …)(score_left …)(score_right …)(play_mode …))` part of a frame.
+pub fn parse_game_state(frame: &str) -> Option<GameSnapshot> {
+    let start = frame.rfind("((gs ")?;
+    let item = sexp::top_level(&frame[start..]).next()?.ok()?.as_list()?;
+    let number = |name: &str| item.numbers::<1>(name).map(|[v]| v);
+    let mode = number("play_mode")? as usize;
+    Some(GameSnapshot {
+        time: number("time")?,
+        half: number("half").unwrap_or(1.0) as u32,
+        score_left: number("score_left").unwrap_or(0.0) as u32,
+        score_right: number("score_right").unwrap_or(0.0) as u32,
+        play_mode: PLAY_MODES
+            .get(mode)
+            .map_or_else(|| format!("mode{mode}"), |m| m.to_string()),
+        frames: 0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn game_state_from_a_real_monitor_frame() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../../shared/samples/rcssservermj/monitor_last_frame.txt"
+        );
+        let frame = std::fs::read_to_string(path).unwrap();
+        let s = parse_game_state(frame.trim()).unwrap();
+        assert_eq!(s.time, 3.16);
+        assert_eq!(s.half, 1);
+        assert_eq!((s.score_left, s.score_right), (0, 0));
+        assert_eq!(s.play_mode, "KickOff_Right");
+    }
+}

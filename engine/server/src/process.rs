@@ -1,0 +1,280 @@
+//! Starting and stopping one rcssservermj process.
+
+use crate::venv::{ensure_installed, Installation};
+use crate::ServerError;
+use std::io::Read;
+use std::net::TcpListener;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// The server's rule set (`--rules`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Rules {
+    /// 7 players a side on the 55 × 36 m `fifa7vs7` field, 300 s halves.
+    #[default]
+    Ssim,
+    /// 11 a side on the 105 × 68 m `fifa` field, 2700 s halves.
+    Fifa,
+}
+
+impl Rules {
+    pub fn as_arg(self) -> &'static str {
+        match self {
+            Rules::Ssim => "ssim",
+            Rules::Fifa => "fifa",
+        }
+    }
+
+    pub fn players_per_team(self) -> u32 {
+        match self {
+            Rules::Ssim => 7,
+            Rules::Fifa => 11,
+        }
+    }
+}
+
+impl std::str::FromStr for Rules {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "ssim" | "ssim26" => Ok(Rules::Ssim),
+            "fifa" => Ok(Rules::Fifa),
+            other => Err(format!("unknown rules `{other}`: use `ssim` or `fifa`")),
+        }
+    }
+}
+
+/// How to run the server.
+#[derive(Debug, Clone)]
+pub struct ServerOptions {
+    /// Wait for every agent's answer each cycle.
+    pub sync: bool,
+    /// Keep 20 ms cycles; `false` runs as fast as the agents answer (and implies sync).
+    pub realtime: bool,
+    pub rules: Rules,
+    /// Agent port; `None` picks a free one.
+    pub agent_port: Option<u16>,
+    /// Monitor port; `None` picks a free one.
+    pub monitor_port: Option<u16>,
+    /// Where the server runs (it writes `console.log` there) and where `server.log` goes;
+    /// `None` makes a fresh temporary directory.
+    pub work_dir: Option<PathBuf>,
+}
+
+impl Default for ServerOptions {
+    /// The fast mode used by tests and matches: `--sync --no-realtime`.
+    fn default() -> Self {
+        Self {
+            sync: true,
+            realtime: false,
+            rules: Rules::Ssim,
+            agent_port: None,
+            monitor_port: None,
+            work_dir: None,
+        }
+    }
+}
+
+/// A running server that this process started. Dropping it stops the server.
+pub struct ServerProcess {
+    child: Option<Child>,
+    install: Installation,
+    options: ServerOptions,
+    pub agent_port: u16,
+    pub monitor_port: u16,
+    pub work_dir: PathBuf,
+}
+
+const START_TIMEOUT: Duration = Duration::from_secs(60);
+
+impl ServerProcess {
+    /// Install the server if needed and start it; returns once it accepts connections.
+    pub fn start(options: ServerOptions) -> Result<Self, ServerError> {
+        let install = ensure_installed()?;
+        let (agent_port, monitor_port) = choose_ports(options.agent_port, options.monitor_port)?;
+        let work_dir = match &options.work_dir {
+            Some(dir) => dir.clone(),
+            None => fresh_dir()?,
+        };
+        std::fs::create_dir_all(&work_dir)
+            .map_err(|e| ServerError::Io(work_dir.display().to_string(), e))?;
+        let mut server = Self {
+            child: None,
+            install,
+            options,
+            agent_port,
+            monitor_port,
+            work_dir,
+        };
+        server.spawn()?;
+        Ok(server)
+    }
+
+    pub fn log_path(&self) -> PathBuf {
+        self.work_dir.join("server.log")
+    }
+
+    fn spawn(&mut self) -> Result<(), ServerError> {
+        let log_path = self.log_path();
+        let log = std::fs::File::create(&log_path)
+            .map_err(|e| ServerError::Io(log_path.display().to_string(), e))?;
+        let err = log
+            .try_clone()
+            .map_err(|e| ServerError::Io(log_path.display().to_string(), e))?;
+        let mut cmd = Command::new(self.install.server_program());
+        cmd.current_dir(&self.work_dir)
+            .args(["--no-render", "--host", "127.0.0.1"])
+            .args(["--aport", &self.agent_port.to_string()])
+            .args(["--mport", &self.monitor_port.to_string()])
+            .args(["--rules", self.options.rules.as_arg()])
+            .arg(if self.options.realtime {
+                "--realtime"
+            } else {
+                "--no-realtime"
+            })
+            .env("PYTHONUNBUFFERED", "1")
+            .stdin(Stdio::null())
+            .stdout(log)
+            .stderr(err);
+        if self.options.sync {
+            cmd.arg("--sync");
+        }
+        let child = cmd
+            .spawn()
+            .map_err(|e| ServerError::Io(self.install.server_program().display().to_string(), e))?;
+        log::info!(
+            "rcssservermj pid {} on 127.0.0.1 agent port {} monitor port {} (log {})",
+            child.id(),
+            self.agent_port,
+            self.monitor_port,
+            log_path.display()
+        );
+        self.child = Some(child);
+        self.wait_ready()
+    }
+
+    fn wait_ready(&mut self) -> Result<(), ServerError> {
+        let start = Instant::now();
+        loop {
+            let log = read_text(&self.log_path());
+            if log.contains("Starting server... DONE") {
+                return Ok(());
+            }
+            if let Some(child) = self.child.as_mut() {
+                if let Ok(Some(status)) = child.try_wait() {
+                    self.child = None;
+                    let tail: Vec<&str> = log.lines().rev().take(12).collect();
+                    let tail = tail.into_iter().rev().collect::<Vec<_>>().join("\n");
+                    if tail.contains("Address already in use") {
+                        return Err(ServerError::PortTaken(self.agent_port));
+                    }
+                    return Err(ServerError::EarlyExit {
+                        status: status.to_string(),
+                        log: self.log_path().display().to_string(),
+                        tail,
+                    });
+                }
+            }
+            if start.elapsed() > START_TIMEOUT {
+                return Err(ServerError::StartTimeout(
+                    START_TIMEOUT.as_secs(),
+                    self.log_path().display().to_string(),
+                ));
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// Whether the process is still running.
+    pub fn is_running(&mut self) -> bool {
+        self.child
+            .as_mut()
+            .is_some_and(|c| matches!(c.try_wait(), Ok(None)))
+    }
+
+    /// Stop the server: SIGINT (its clean shutdown), then SIGKILL if it lingers. Only the
+    /// process we started is signalled.
+    pub fn stop(&mut self) {
+        let Some(mut child) = self.child.take() else {
+            return;
+        };
+        if let Ok(pid) = i32::try_from(child.id()) {
+            // SAFETY: `pid` is our own child, not yet reaped (we hold its `Child`), so the
+            // number cannot have been reused by another process.
+            unsafe { libc::kill(pid, libc::SIGINT) };
+        }
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while Instant::now() < deadline {
+            if let Ok(Some(_)) = child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+
+    /// Kill the server abruptly (to test recovery), as a crash would.
+    pub fn kill(&mut self) {
+        if let Some(mut child) = self.child.take() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+
+    /// Start it again on the same ports after `stop` or `kill`.
+    pub fn restart(&mut self) -> Result<(), ServerError> {
+        self.stop();
+        self.spawn()
+    }
+}
+
+impl Drop for ServerProcess {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+fn read_text(path: &PathBuf) -> String {
+    let mut s = String::new();
+    if let Ok(mut f) = std::fs::File::open(path) {
+        let _ = f.read_to_string(&mut s);
+    }
+    s
+}
+
+fn fresh_dir() -> Result<PathBuf, ServerError> {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static COUNTER: AtomicU32 = AtomicU32::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "libero-server-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).map_err(|e| ServerError::Io(dir.display().to_string(), e))?;
+    Ok(dir)
+}
+
+/// The requested ports if free, else free ones chosen by the OS.
+fn choose_ports(agent: Option<u16>, monitor: Option<u16>) -> Result<(u16, u16), ServerError> {
+    let bind = |port: Option<u16>| -> Result<TcpListener, ServerError> {
+        match port {
+            Some(p) => TcpListener::bind(("127.0.0.1", p)).map_err(|_| ServerError::PortTaken(p)),
+            None => TcpListener::bind(("127.0.0.1", 0))
+                .map_err(|e| ServerError::Io("binding a free port".into(), e)),
+        }
+    };
+    // Hold both at once so the OS cannot hand out the same port twice.
+    let a = bind(agent)?;
+    let m = bind(monitor)?;
+    let ports = (
+        a.local_addr()
+            .map_err(|e| ServerError::Io("port".into(), e))?
+            .port(),
+        m.local_addr()
+            .map_err(|e| ServerError::Io("port".into(), e))?
+            .port(),
+    );
+    Ok(ports)
+}
