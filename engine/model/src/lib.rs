@@ -4,6 +4,8 @@
 //! kinematic geometry) comes from here, so that the rest of the engine never spells an
 //! actuator name of its own.
 
+pub mod field;
+pub mod kinematics;
 pub mod location;
 pub mod robot;
 

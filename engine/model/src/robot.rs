@@ -15,6 +15,9 @@ pub enum ServerKind {
 }
 
 /// Position and damping gains for a joint motor (rcssservermj `kp`, `kd`).
+///
+/// SimSpark has no motor gains (velocity effectors only); there `kp` is the dimensionless gain `g`
+/// of the client-side servo `v = g·(θ* − θ̂)/Δt` (simspark.md §8.2) and `kd` is 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Gains {
     /// N·m/rad
@@ -39,9 +42,17 @@ pub struct Joint {
     #[serde(default)]
     pub parent: Option<String>,
     /// Position of this joint's axis point in the parent joint's frame at zero pose [m].
+    ///
+    /// Every model is expressed in one body convention, whatever its simulator uses: x forward,
+    /// y left, z up, origin at the torso reference point (rcssservermj: the `torso` site; SimSpark:
+    /// the torso centre; SimSpark's own x-right/y-forward numbers are converted once, in the data).
     #[serde(default)]
     pub origin: [f64; 3],
-    /// Rotation axis in the joint's own frame (unit vector; zero pose frames are parallel to the torso).
+    /// Fixed rotation of this joint's frame relative to the parent joint's frame at zero pose, as a
+    /// quaternion `(w, x, y, z)` (MuJoCo's `quat` order); identity when the frames are parallel.
+    #[serde(default = "identity_rotation")]
+    pub rotation: [f64; 4],
+    /// Rotation axis in the joint's own frame (unit vector).
     pub axis: [f64; 3],
     /// Lower and upper angle limits [deg].
     pub limits_deg: (f64, f64),
@@ -63,6 +74,18 @@ pub struct Frame {
     pub parent: Option<String>,
     /// Position in the parent joint's frame [m].
     pub origin: [f64; 3],
+    /// Orientation relative to the parent joint's frame, quaternion `(w, x, y, z)`.
+    #[serde(default = "identity_rotation")]
+    pub rotation: [f64; 4],
+}
+
+fn identity_rotation() -> [f64; 4] {
+    [1.0, 0.0, 0.0, 0.0]
+}
+
+fn is_unit_quaternion(q: &[f64; 4]) -> bool {
+    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    q.iter().all(|v| v.is_finite()) && (norm - 1.0).abs() < 1e-3
 }
 
 /// A complete robot description.
@@ -109,7 +132,15 @@ fn format_all(errors: &[Located]) -> String {
 }
 
 /// The robot models shipped with Libero, by file name.
-const BUILTIN: &[(&str, &str)] = &[("T1", include_str!("../robots/t1.ron"))];
+const BUILTIN: &[(&str, &str)] = &[
+    ("T1", include_str!("../robots/t1.ron")),
+    ("K1", include_str!("../robots/k1.ron")),
+    ("NAO_type0", include_str!("../robots/nao_type0.ron")),
+    ("NAO_type1", include_str!("../robots/nao_type1.ron")),
+    ("NAO_type2", include_str!("../robots/nao_type2.ron")),
+    ("NAO_type3", include_str!("../robots/nao_type3.ron")),
+    ("NAO_type4", include_str!("../robots/nao_type4.ron")),
+];
 
 impl RobotModel {
     /// Names of the robot models shipped with the engine.
@@ -235,6 +266,15 @@ impl RobotModel {
                     ),
                 );
             }
+            if !is_unit_quaternion(&joint.rotation) {
+                report(
+                    &here,
+                    format!(
+                        "joint `{}`: rotation must be a unit quaternion (w, x, y, z)",
+                        joint.name
+                    ),
+                );
+            }
             if joint.origin.iter().any(|v| !v.is_finite()) {
                 report(
                     &here,
@@ -267,6 +307,15 @@ impl RobotModel {
             let here = format!("\"{}\"", frame.name);
             if !frame_names.insert(frame.name.as_str()) {
                 report(&here, format!("frame `{}` is defined twice", frame.name));
+            }
+            if !is_unit_quaternion(&frame.rotation) || frame.origin.iter().any(|v| !v.is_finite()) {
+                report(
+                    &here,
+                    format!(
+                        "frame `{}`: origin must be finite and rotation a unit quaternion",
+                        frame.name
+                    ),
+                );
             }
             if let Some(parent) = &frame.parent {
                 if !known.contains(parent.as_str()) {
@@ -357,7 +406,9 @@ mod tests {
         };
         assert_eq!(errors.len(), 2, "{errors:?}");
         assert!(errors.iter().all(|e| e.at.line > 1));
-        assert!(errors.iter().any(|e| e.message.contains("effector `he1` is used twice")));
+        assert!(errors
+            .iter()
+            .any(|e| e.message.contains("effector `he1` is used twice")));
         assert!(errors.iter().any(|e| e.message.contains("lower < upper")));
     }
 
