@@ -1,1 +1,22 @@
-//! Agent runtime: connection, per-cycle pipeline, team hosting, reconnects.
+//! The agent runtime: one cycle per percept, one reply per cycle.
+//!
+//! ```text
+//! bytes → frame → S-expression → Percept → World → decide → Intent → Skills → JointTargets → actions → bytes
+//! ```
+//! [`player`] is that pipeline without any I/O (so it is tested on recorded messages);
+//! [`connection`] and [`run`] put it on a socket with reconnects; [`team`] hosts several
+//! agents in one process.
+
+pub mod actuate;
+pub mod connection;
+pub mod decide;
+pub mod player;
+pub mod run;
+pub mod stats;
+pub mod team;
+
+pub use decide::{Decider, StandAndBeam};
+pub use player::Player;
+pub use run::{run_agent, AgentConfig};
+pub use stats::AgentStats;
+pub use team::{simspark_team_types, Team};

@@ -1,0 +1,226 @@
+//! One agent's per-cycle pipeline, free of I/O.
+
+use crate::actuate::write_actions;
+use crate::decide::Decider;
+use crate::stats::AgentStats;
+use libero_model::RobotModel;
+use libero_protocol::{parse_percept, ActionWriter};
+use libero_skills::{Intent, JointTargets, Skills};
+use libero_world::{PlayMode, World};
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
+
+/// Server cycle length [s] (both servers).
+pub const CYCLE_S: f64 = 0.02;
+
+/// Everything one agent carries from cycle to cycle.
+pub struct Player {
+    pub model: Arc<RobotModel>,
+    pub world: World,
+    skills: Skills,
+    decider: Box<dyn Decider>,
+    writer: ActionWriter,
+    targets: JointTargets,
+    intent: Intent,
+    stats: Arc<AgentStats>,
+    /// The play mode in which we last beamed: beam once per beam-allowing mode, because a
+    /// beam resets the joints and repeated beams would never let the robot settle.
+    beamed_in: Option<PlayMode>,
+}
+
+impl Player {
+    pub fn new(
+        model: Arc<RobotModel>,
+        skills: Skills,
+        decider: Box<dyn Decider>,
+        team: &str,
+        unum: u32,
+        stats: Arc<AgentStats>,
+    ) -> Self {
+        let world = World::new(&model, team, unum);
+        let mut targets = JointTargets::default();
+        targets.hold_pose(&model, skills.stand_pose());
+        Self {
+            writer: ActionWriter::new(model.server),
+            model,
+            world,
+            skills,
+            decider,
+            targets,
+            intent: Intent::default(),
+            stats,
+            beamed_in: None,
+        }
+    }
+
+    pub fn stats(&self) -> &Arc<AgentStats> {
+        &self.stats
+    }
+
+    /// The intent chosen in the latest cycle.
+    pub fn intent(&self) -> &Intent {
+        &self.intent
+    }
+
+    /// The message that opens a connection (rcssservermj `init`; SimSpark `scene`).
+    pub fn greeting(&mut self) -> Result<Vec<u8>, libero_protocol::action::ActionError> {
+        self.writer.clear();
+        match self.model.server {
+            libero_model::ServerKind::RcssMj => {
+                self.writer
+                    .init(&self.model, &self.world.game.team, self.world.game.unum)?
+            }
+            libero_model::ServerKind::SimSpark => self.writer.scene(&self.model)?,
+        }
+        let mut out = Vec::new();
+        self.writer.frame_into(&mut out);
+        Ok(out)
+    }
+
+    /// Forget per-connection state (after a reconnect the server knows nothing of us).
+    pub fn reset_connection(&mut self) {
+        let (team, unum) = (self.world.game.team.clone(), self.world.game.unum);
+        self.world = World::new(&self.model, &team, unum);
+        self.beamed_in = None;
+    }
+
+    /// One cycle: read `payload`, decide, and append exactly one reply frame to `out`. A
+    /// message that cannot be read still gets a reply (the previous targets again), because
+    /// a missing reply stalls a sync-mode server.
+    pub fn on_percept(&mut self, payload: &[u8], out: &mut Vec<u8>) {
+        AgentStats::bump(&self.stats.percepts);
+        self.writer.clear();
+        let first = self.world.cycle == 0;
+        match parse_percept(payload, self.model.server) {
+            Ok(percept) => {
+                let before = self.world.time;
+                self.world.update(&self.model, &percept);
+                self.count_missed(before);
+                if !percept.skipped.is_empty() && self.world.cycle % 500 == 1 {
+                    log::debug!("unread percept items: {:?}", percept.skipped);
+                }
+            }
+            Err(e) => {
+                AgentStats::bump(&self.stats.unreadable);
+                log::warn!(
+                    "agent {}: unreadable percept ({e}); holding the previous targets",
+                    self.world.game.unum
+                );
+            }
+        }
+        if first && self.model.server == libero_model::ServerKind::SimSpark {
+            // The robot exists now; `init` goes with the first reply (with `syn`, or a
+            // sync-mode server waits forever).
+            let (team, unum) = (self.world.game.team.clone(), self.world.game.unum);
+            if let Err(e) = self.writer.init(&self.model, &team, unum) {
+                log::error!("init not sent: {e}");
+            }
+        }
+        self.intent = self.decider.decide(&self.world);
+        self.skills
+            .act(&self.model, &self.world, &self.intent, &mut self.targets);
+        let mode = self.world.game.play_mode;
+        let beam_now =
+            self.intent.beam.is_some() && mode.allows_beam() && self.beamed_in != Some(mode);
+        if beam_now {
+            self.beamed_in = Some(mode);
+        }
+        write_actions(
+            &self.model,
+            &self.world,
+            &self.intent,
+            &self.targets,
+            beam_now,
+            &mut self.writer,
+        );
+        self.writer.frame_into(out);
+        AgentStats::bump(&self.stats.replies);
+    }
+
+    fn count_missed(&mut self, before: f64) {
+        let now = self.world.time;
+        if self.world.cycle > 1 && now > before {
+            let gap = ((now - before) / CYCLE_S).round() as u64;
+            if gap > 1 {
+                self.stats
+                    .missed_cycles
+                    .fetch_add(gap - 1, Ordering::Relaxed);
+            }
+        }
+        self.stats
+            .last_time_ms
+            .store((now * 1000.0) as u64, Ordering::Relaxed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::decide::StandAndBeam;
+    use libero_protocol::sexp;
+    use libero_skills::SkillParams;
+
+    fn t1_player() -> Player {
+        let model = Arc::new(RobotModel::builtin("T1").unwrap());
+        let skills = Skills::new(&model, SkillParams::builtin(&model).unwrap()).unwrap();
+        let decider = Box::new(StandAndBeam {
+            beam_pose: [-5.0, 1.0, 0.0],
+        });
+        Player::new(model, skills, decider, "Libero", 3, Arc::default())
+    }
+
+    fn sample(name: &str) -> Vec<u8> {
+        let path = format!(
+            "{}/../../../shared/samples/rcssservermj/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        std::fs::read(path).unwrap()
+    }
+
+    fn reply_items(out: &[u8]) -> Vec<String> {
+        let text = std::str::from_utf8(&out[4..]).unwrap();
+        sexp::top_level(text)
+            .map(|i| i.unwrap().as_list().unwrap().head().unwrap().to_string())
+            .collect()
+    }
+
+    #[test]
+    fn every_percept_gets_one_reply_with_all_joints_and_one_beam() {
+        let mut player = t1_player();
+        let mut out = Vec::new();
+        player.on_percept(&sample("T1_sync_msg0000.txt"), &mut out);
+        let items = reply_items(&out);
+        assert_eq!(items.len(), 24, "{items:?}");
+        assert_eq!(items.last().unwrap(), "beam");
+        assert_eq!(
+            u32::from_be_bytes(out[..4].try_into().unwrap()) as usize,
+            out.len() - 4
+        );
+        out.clear();
+        player.on_percept(&sample("T1_sync_msg0001.txt"), &mut out);
+        assert_eq!(
+            reply_items(&out).len(),
+            23,
+            "beam is sent once per beam-allowing play mode"
+        );
+        out.clear();
+        player.on_percept(b"\xff\xfe garbage (((", &mut out);
+        assert_eq!(
+            reply_items(&out).len(),
+            23,
+            "unreadable input still gets a full reply"
+        );
+        assert_eq!(AgentStats::get(&player.stats.replies), 3);
+        assert_eq!(AgentStats::get(&player.stats.unreadable), 1);
+    }
+
+    #[test]
+    fn time_gaps_count_as_missed_cycles() {
+        let mut player = t1_player();
+        let mut out = Vec::new();
+        for t in ["1.00", "1.02", "1.08"] {
+            player.on_percept(format!("(time (now {t}))").as_bytes(), &mut out);
+        }
+        assert_eq!(AgentStats::get(&player.stats.missed_cycles), 2);
+    }
+}

@@ -1,0 +1,30 @@
+//! Counters an agent keeps about its own connection, readable from other threads.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Live counters of one agent. All fields only grow.
+#[derive(Debug, Default)]
+pub struct AgentStats {
+    /// Percepts received.
+    pub percepts: AtomicU64,
+    /// Replies sent (must equal `percepts` in every healthy cycle).
+    pub replies: AtomicU64,
+    /// Server cycles that passed without a percept reaching us (gaps in server time).
+    pub missed_cycles: AtomicU64,
+    /// Percepts that could not be read at all.
+    pub unreadable: AtomicU64,
+    /// Successful connections (the first one included).
+    pub connections: AtomicU64,
+    /// Server time of the last percept, in milliseconds.
+    pub last_time_ms: AtomicU64,
+}
+
+impl AgentStats {
+    pub fn get(counter: &AtomicU64) -> u64 {
+        counter.load(Ordering::Relaxed)
+    }
+
+    pub(crate) fn bump(counter: &AtomicU64) {
+        counter.fetch_add(1, Ordering::Relaxed);
+    }
+}

@@ -1,0 +1,128 @@
+//! Skill parameters as RON data, checked against the robot model on load.
+
+use libero_model::RobotModel;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// Head scanning.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+pub struct LookAround {
+    pub yaw_amplitude_deg: f64,
+    pub period_s: f64,
+    pub pitch_deg: f64,
+}
+
+/// Every tunable number of the skills for one robot.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+pub struct SkillParams {
+    /// The robot model these numbers are for.
+    pub robot: String,
+    /// Stand posture: joint name → angle [deg]; unlisted joints are 0.
+    pub stand: BTreeMap<String, f64>,
+    pub look_around: LookAround,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ParamsError {
+    #[error("{file}:{line}:{column}: {message}")]
+    Syntax {
+        file: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{file}: {message}")]
+    Invalid { file: String, message: String },
+    #[error("no built-in skill parameters for robot `{0}`")]
+    NoBuiltin(String),
+}
+
+const BUILTIN: &[(&str, &str)] = &[("T1", include_str!("../params/t1.ron"))];
+
+impl SkillParams {
+    /// The shipped parameters for a robot model.
+    pub fn builtin(model: &RobotModel) -> Result<Self, ParamsError> {
+        let (name, text) = BUILTIN
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(&model.name))
+            .ok_or_else(|| ParamsError::NoBuiltin(model.name.clone()))?;
+        Self::from_ron(
+            &format!("<builtin>/{}.ron", name.to_lowercase()),
+            text,
+            model,
+        )
+    }
+
+    pub fn from_ron(file: &str, text: &str, model: &RobotModel) -> Result<Self, ParamsError> {
+        let params: SkillParams = ron::from_str(text).map_err(|e| ParamsError::Syntax {
+            file: file.into(),
+            line: e.position.line,
+            column: e.position.col,
+            message: e.code.to_string(),
+        })?;
+        params.stand_pose(model).map_err(|e| match e {
+            ParamsError::Invalid { message, .. } => ParamsError::Invalid {
+                file: file.into(),
+                message,
+            },
+            other => other,
+        })?;
+        Ok(params)
+    }
+
+    /// The stand pose as one angle per model joint.
+    pub fn stand_pose(&self, model: &RobotModel) -> Result<Vec<f64>, ParamsError> {
+        let invalid = |message: String| ParamsError::Invalid {
+            file: String::new(),
+            message,
+        };
+        if !self.robot.eq_ignore_ascii_case(&model.name) {
+            return Err(invalid(format!(
+                "parameters are for `{}`, the robot is `{}`",
+                self.robot, model.name
+            )));
+        }
+        let mut pose = vec![0.0; model.joints.len()];
+        for (name, &angle) in &self.stand {
+            let id = model.joint_id(name).ok_or_else(|| {
+                invalid(format!("stand: `{name}` is not a joint of {}", model.name))
+            })?;
+            let (lo, hi) = model.joints[id].limits_deg;
+            if !(lo..=hi).contains(&angle) {
+                return Err(invalid(format!(
+                    "stand: {name} = {angle}° is outside its limits [{lo}, {hi}]"
+                )));
+            }
+            pose[id] = angle;
+        }
+        Ok(pose)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtin_t1_parameters_load() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = SkillParams::builtin(&t1).unwrap();
+        let pose = p.stand_pose(&t1).unwrap();
+        assert_eq!(pose[t1.joint_id("left_knee").unwrap()], 24.0);
+    }
+
+    #[test]
+    fn unknown_joints_and_out_of_range_angles_are_rejected() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let text = r#"SkillParams(robot: "T1", stand: {"left_kne": 1.0}, look_around: LookAround(yaw_amplitude_deg: 1.0, period_s: 1.0, pitch_deg: 0.0))"#;
+        let e = SkillParams::from_ron("x.ron", text, &t1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`left_kne` is not a joint"), "{e}");
+        let text = text.replace("left_kne\": 1.0", "left_knee\": -5.0");
+        let e = SkillParams::from_ron("x.ron", &text, &t1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("outside its limits"), "{e}");
+    }
+}
