@@ -1,0 +1,274 @@
+//! Located diagnostics: every problem in every file, rendered like rustc or as JSON for CI.
+
+use crate::syntax::Span;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    Error,
+    Warning,
+}
+
+/// One loaded file's text, kept so diagnostics can show an excerpt.
+#[derive(Debug)]
+pub struct SourceFile {
+    pub path: PathBuf,
+    pub text: String,
+    line_starts: Vec<usize>,
+}
+
+impl SourceFile {
+    pub fn new(path: PathBuf, text: String) -> Self {
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        Self { path, text, line_starts }
+    }
+
+    /// 1-based line and column (in characters) of a byte offset.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let line = self.line_starts.partition_point(|&start| start <= offset) - 1;
+        let start = self.line_starts[line];
+        let column = self.text.get(start..offset).map_or(offset - start, |s| s.chars().count());
+        (line + 1, column + 1)
+    }
+
+    fn line_text(&self, line: usize) -> &str {
+        let start = self.line_starts[line - 1];
+        let end = self.line_starts.get(line).map_or(self.text.len(), |&next| next - 1);
+        self.text.get(start..end).unwrap_or("").trim_end_matches('\r')
+    }
+}
+
+/// Where a diagnostic points: a file and a byte span in it.
+#[derive(Debug, Clone)]
+pub struct Location {
+    pub file: Arc<SourceFile>,
+    pub span: Span,
+}
+
+#[derive(Debug, Clone)]
+pub struct Diagnostic {
+    pub severity: Severity,
+    /// A stable kebab-case name of the error class, e.g. `unknown-node`.
+    pub code: &'static str,
+    pub message: String,
+    pub location: Option<Location>,
+    pub hint: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn error(code: &'static str, message: impl Into<String>) -> Self {
+        Self { severity: Severity::Error, code, message: message.into(), location: None, hint: None }
+    }
+
+    pub fn warning(code: &'static str, message: impl Into<String>) -> Self {
+        Self { severity: Severity::Warning, ..Self::error(code, message) }
+    }
+
+    pub fn at(mut self, file: &Arc<SourceFile>, span: Span) -> Self {
+        self.location = Some(Location { file: file.clone(), span });
+        self
+    }
+
+    pub fn hint(mut self, hint: impl Into<String>) -> Self {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    pub fn maybe_hint(mut self, hint: Option<String>) -> Self {
+        self.hint = hint;
+        self
+    }
+}
+
+/// The result of validating a set of files.
+#[derive(Debug, Clone, Default)]
+pub struct Report {
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+#[derive(Serialize)]
+struct JsonDiagnostic<'a> {
+    severity: Severity,
+    code: &'a str,
+    message: &'a str,
+    file: Option<String>,
+    line: Option<usize>,
+    column: Option<usize>,
+    end_line: Option<usize>,
+    end_column: Option<usize>,
+    hint: Option<&'a str>,
+}
+
+impl Report {
+    pub fn push(&mut self, diagnostic: Diagnostic) {
+        self.diagnostics.push(diagnostic);
+    }
+
+    pub fn extend(&mut self, other: Report) {
+        self.diagnostics.extend(other.diagnostics);
+    }
+
+    pub fn error_count(&self) -> usize {
+        self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count()
+    }
+
+    pub fn warning_count(&self) -> usize {
+        self.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count()
+    }
+
+    pub fn has_errors(&self) -> bool {
+        self.error_count() > 0
+    }
+
+    /// Orders diagnostics by file, then position, so output is stable across runs.
+    pub fn sort(&mut self) {
+        self.diagnostics.sort_by(|a, b| {
+            let key = |d: &Diagnostic| {
+                d.location.as_ref().map(|l| (l.file.path.clone(), l.span.start, l.span.end))
+            };
+            key(a).cmp(&key(b)).then(a.severity.cmp(&b.severity)).then(a.message.cmp(&b.message))
+        });
+    }
+
+    /// rustc-style text with a caret excerpt, paths shown as given.
+    pub fn render_text(&self) -> String {
+        self.render_text_relative(Path::new(""))
+    }
+
+    /// Like [`Report::render_text`] with paths shown relative to `base` (for stable snapshots).
+    pub fn render_text_relative(&self, base: &Path) -> String {
+        let mut out = String::new();
+        for diagnostic in &self.diagnostics {
+            render_one(&mut out, diagnostic, base);
+            out.push('\n');
+        }
+        let (errors, warnings) = (self.error_count(), self.warning_count());
+        let _ = writeln!(out, "{errors} error{}, {warnings} warning{}", plural(errors), plural(warnings));
+        out
+    }
+
+    /// One JSON object per diagnostic in an array, for CI annotations.
+    pub fn render_json(&self) -> String {
+        let items: Vec<JsonDiagnostic<'_>> = self
+            .diagnostics
+            .iter()
+            .map(|d| {
+                let position = d.location.as_ref().map(|l| {
+                    let (line, column) = l.file.line_col(l.span.start);
+                    let (end_line, end_column) = l.file.line_col(l.span.end);
+                    (l.file.path.display().to_string(), line, column, end_line, end_column)
+                });
+                JsonDiagnostic {
+                    severity: d.severity,
+                    code: d.code,
+                    message: &d.message,
+                    file: position.as_ref().map(|p| p.0.clone()),
+                    line: position.as_ref().map(|p| p.1),
+                    column: position.as_ref().map(|p| p.2),
+                    end_line: position.as_ref().map(|p| p.3),
+                    end_column: position.as_ref().map(|p| p.4),
+                    hint: d.hint.as_deref(),
+                }
+            })
+            .collect();
+        let mut summary = BTreeMap::new();
+        summary.insert("errors", self.error_count());
+        summary.insert("warnings", self.warning_count());
+        serde_json::json!({ "diagnostics": items, "summary": summary }).to_string()
+    }
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+fn render_one(out: &mut String, diagnostic: &Diagnostic, base: &Path) {
+    let label = match diagnostic.severity {
+        Severity::Error => "error",
+        Severity::Warning => "warning",
+    };
+    let _ = writeln!(out, "{label}[{}]: {}", diagnostic.code, diagnostic.message);
+    if let Some(location) = &diagnostic.location {
+        let file = &location.file;
+        let (line, column) = file.line_col(location.span.start);
+        let shown = file.path.strip_prefix(base).unwrap_or(&file.path);
+        let gutter = line.to_string().len();
+        let pad = " ".repeat(gutter);
+        let _ = writeln!(out, "{pad}--> {}:{line}:{column}", shown.display());
+        let _ = writeln!(out, "{pad} |");
+        let text = file.line_text(line);
+        let _ = writeln!(out, "{line} | {text}");
+        let (end_line, end_column) = file.line_col(location.span.end);
+        let width = if end_line == line {
+            end_column.saturating_sub(column).max(1)
+        } else {
+            text.chars().count().saturating_sub(column - 1).max(1)
+        };
+        let _ = writeln!(out, "{pad} | {}{}", " ".repeat(column - 1), "^".repeat(width));
+        if let Some(hint) = &diagnostic.hint {
+            let _ = writeln!(out, "{pad} = hint: {hint}");
+        }
+    } else if let Some(hint) = &diagnostic.hint {
+        let _ = writeln!(out, "  = hint: {hint}");
+    }
+}
+
+/// "did you mean `X`?" for the closest known name, if one is close enough to be a typo.
+pub fn did_you_mean<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>) -> Option<String> {
+    let lower = unknown.to_lowercase();
+    known
+        .into_iter()
+        .map(|candidate| (strsim::jaro_winkler(&lower, &candidate.to_lowercase()), candidate))
+        .filter(|(score, _)| *score >= 0.8)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, best)| format!("did you mean `{best}`?"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn renders_caret_under_the_span() {
+        let text = "Sequence([\n    Action(name: \"WalkToo\"),\n])\n".to_string();
+        let file = Arc::new(SourceFile::new(PathBuf::from("behaviors/a.ron"), text));
+        let start = file.text.find("\"WalkToo\"").unwrap();
+        let mut report = Report::default();
+        report.push(
+            Diagnostic::error("unknown-node", "unknown node `WalkToo`")
+                .at(&file, Span::new(start, start + 9))
+                .maybe_hint(did_you_mean("WalkToo", ["Stand", "WalkTo"])),
+        );
+        let expected = "error[unknown-node]: unknown node `WalkToo`\n --> behaviors/a.ron:2:18\n  |\n2 |     Action(name: \"WalkToo\"),\n  |                  ^^^^^^^^^\n  = hint: did you mean `WalkTo`?\n\n1 error, 0 warnings\n";
+        assert_eq!(report.render_text(), expected);
+        let json: serde_json::Value = serde_json::from_str(&report.render_json()).unwrap();
+        assert_eq!(json["diagnostics"][0]["line"], 2);
+        assert_eq!(json["diagnostics"][0]["column"], 18);
+        assert_eq!(json["summary"]["errors"], 1);
+    }
+
+    #[test]
+    fn suggestions_only_for_close_names() {
+        assert_eq!(did_you_mean("Sequnce", ["Sequence", "Fallback"]).as_deref(), Some("did you mean `Sequence`?"));
+        assert_eq!(did_you_mean("Kick", ["Sequence", "Fallback"]), None);
+    }
+
+    #[test]
+    fn columns_count_characters() {
+        let file = SourceFile::new(PathBuf::from("x"), "// é\n  \"ü\" x".into());
+        let offset = file.text.rfind('x').unwrap();
+        assert_eq!(file.line_col(offset), (2, 7));
+    }
+}
