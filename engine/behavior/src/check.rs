@@ -231,7 +231,8 @@ impl<'a> Checker<'a, '_> {
             };
             self.arg_value(param, arg);
         }
-        for param in params.iter().filter(|p| p.default.is_none() && !given.contains(p.name.as_str())) {
+        let reported = |name: &str| given.contains(name) || call.invalid_args.iter().any(|a| a == name);
+        for param in params.iter().filter(|p| p.default.is_none() && !reported(&p.name)) {
             let hint = Some(format!("add `{}: <{}>`", param.name, param.ty));
             let message = format!("{what} needs parameter `{}` ({})", param.name, param.ty);
             self.error("missing-parameter", call.name_span, message, hint);

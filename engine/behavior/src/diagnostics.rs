@@ -146,8 +146,15 @@ impl Report {
     /// Like [`Report::render_text`] with paths shown relative to `base` (for stable snapshots).
     pub fn render_text_relative(&self, base: &Path) -> String {
         let mut out = String::new();
+        let prefix = format!("{}/", base.display());
         for diagnostic in &self.diagnostics {
-            render_one(&mut out, diagnostic, base);
+            let mut diagnostic = diagnostic.clone();
+            // Paths quoted inside messages and hints are shortened like the location line.
+            if !base.as_os_str().is_empty() {
+                diagnostic.message = diagnostic.message.replace(&prefix, "");
+                diagnostic.hint = diagnostic.hint.map(|h| h.replace(&prefix, ""));
+            }
+            render_one(&mut out, &diagnostic, base);
             out.push('\n');
         }
         let (errors, warnings) = (self.error_count(), self.warning_count());

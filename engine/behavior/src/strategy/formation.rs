@@ -147,6 +147,8 @@ fn point_on_field(decoder: &mut Decoder, node: &Node, field: Field) -> Option<Ve
 
 fn roles(decoder: &mut Decoder, node: &Node, field: Field) -> Vec<Role> {
     let mut roles: Vec<Role> = Vec::new();
+    // Players whose role had other errors still count as present, to avoid a second error.
+    let mut present: Vec<u8> = Vec::new();
     for item in decoder.list(node).unwrap_or_default() {
         let Some(mut fields) = decoder.fields(item, "Role") else { continue };
         let unum_node = fields.require(decoder, "unum");
@@ -168,16 +170,17 @@ fn roles(decoder: &mut Decoder, node: &Node, field: Field) -> Vec<Role> {
         };
         fields.finish(decoder, &["unum", "name", "attraction", "region"]);
         if let (Some(unum), Some(unum_node)) = (unum, unum_node) {
-            if roles.iter().any(|r| r.unum == unum) {
+            if present.contains(&unum) {
                 decoder.error("duplicate-player", unum_node.span, format!("player {unum} has two roles"));
             }
+            present.push(unum);
             if let (Some(name), Some(attraction), Some(region)) = (name, attraction, region) {
                 roles.push(Role { unum, name, attraction, region });
             }
         }
     }
     for unum in 1..=field.players {
-        if !roles.iter().any(|r| r.unum == unum) {
+        if !present.contains(&unum) {
             decoder.error("missing-player", node.span, format!("no role for player {unum}")).hint =
                 Some(format!("a {} formation needs roles for players 1 to {}", field.name, field.players));
         }

@@ -149,6 +149,9 @@ pub struct Call {
     pub name: String,
     pub name_span: Span,
     pub args: Vec<Arg>,
+    /// Names of arguments whose values had errors (already reported), so they do not also
+    /// count as missing.
+    pub invalid_args: Vec<String>,
 }
 
 #[derive(Debug, Clone)]

@@ -158,18 +158,19 @@ fn call(decoder: &mut Decoder, node: &Node, form: &str) -> Option<Call> {
             }
         };
         let name = decoder.string(name_node)?;
-        return Some(Call { name, name_span: name_node.span, args: Vec::new() });
+        return Some(Call { name, name_span: name_node.span, args: Vec::new(), invalid_args: Vec::new() });
     }
     let mut fields = decoder.fields(node, form)?;
     let name_node = fields.require(decoder, "name")?;
     let name = decoder.string(name_node)?;
-    let mut args = Vec::new();
+    let (mut args, mut invalid_args) = (Vec::new(), Vec::new());
     for field in fields.rest() {
-        if let Some(value) = expr(decoder, &field.value) {
-            args.push(Arg { name: field.name.name.clone(), name_span: field.name.span, value });
+        match expr(decoder, &field.value) {
+            Some(value) => args.push(Arg { name: field.name.name.clone(), name_span: field.name.span, value }),
+            None => invalid_args.push(field.name.name.clone()),
         }
     }
-    Some(Call { name, name_span: name_node.span, args })
+    Some(Call { name, name_span: name_node.span, args, invalid_args })
 }
 
 fn children(decoder: &mut Decoder, node: &Node) -> Option<Vec<NodeDef>> {
