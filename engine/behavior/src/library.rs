@@ -42,6 +42,22 @@ impl Library {
         }
     }
 
+    /// Builds a library from in-memory files `(path, text)`, as if read from disk.
+    pub fn from_texts(files: &[(&str, &str)], vocabulary: &Vocabulary) -> Result<Library, Report> {
+        let sources: Vec<Arc<SourceFile>> =
+            files.iter().map(|(path, text)| Arc::new(SourceFile::new(PathBuf::from(path), text.to_string()))).collect();
+        let mut report = Report::default();
+        let library = build(&sources, vocabulary, &mut report);
+        report.sort();
+        match library {
+            Some(mut library) if !report.has_errors() => {
+                library.warnings = report;
+                Ok(library)
+            }
+            _ => Err(report),
+        }
+    }
+
     /// A number that increases with each reload published by a [`crate::LiveLibrary`].
     pub fn generation(&self) -> u64 {
         self.generation
