@@ -34,3 +34,17 @@ pub const LANGUAGE: &[(&str, &str)] = &[
     ("Succeed | Fail", "Constant Success or Failure."),
     ("expr: 1.5 | 3 | true | \"text\" | (x, y) | Bb(\"key\") | Param(\"name\") | Query(\"q\") | Query(name: \"q\", param: expr)", "Values: constants, blackboard entries, subtree parameters or named world queries."),
 ];
+
+/// Reads one behavior file's text; the report holds every syntax and shape error.
+pub fn read_behavior_file(path: &std::path::Path, text: &str) -> (BehaviorFile, crate::Report) {
+    let source = std::sync::Arc::new(crate::diagnostics::SourceFile::new(path.to_path_buf(), text.to_string()));
+    let mut report = crate::Report::default();
+    let file = match crate::syntax::parse(text) {
+        Ok(node) => parse_behavior_file(&mut crate::decode::Decoder::new(source, &mut report), &node),
+        Err(error) => {
+            report.push(crate::Diagnostic::error("syntax", error.message).at(&source, error.span).maybe_hint(error.hint));
+            BehaviorFile::default()
+        }
+    };
+    (file, report)
+}
