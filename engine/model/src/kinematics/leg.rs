@@ -41,6 +41,15 @@ pub enum LegKind {
     Nao,
 }
 
+/// Which of the two law-of-cosines knee solutions to take.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum KneeBranch {
+    /// Flexed the ordinary way (the larger flexion).
+    Bent,
+    /// The mirror solution about the hip–ankle line.
+    Straighter,
+}
+
 const JOINTS_BOOSTER: [&str; 6] = [
     "hip_pitch",
     "hip_roll",
@@ -70,6 +79,7 @@ pub struct LegIk {
     signs: [f64; 6],
     /// NAO: the yaw-pitch axis.
     hip_axis: Vector3<f64>,
+    limits_deg: [(f64, f64); 6],
     /// Sole frame → ankle-roll frame.
     sole_to_ankle: Isometry3<f64>,
     polish: NumericIk,
@@ -153,13 +163,15 @@ impl LegIk {
         let sole_to_ankle = super::forward::isometry(&frame.origin, &frame.rotation).inverse();
         let chain = Chain::to_frame(kin, Some(name(0)), &sole)?;
         let options = IkOptions {
-            max_iterations: 30,
+            max_iterations: 200,
             position_tolerance: 1e-6,
             orientation_tolerance: 1e-5,
             ..IkOptions::default()
         };
+        let limits_deg = joints.map(|j| model.joints[j].limits_deg);
         Ok(Self {
             kind,
+            limits_deg,
             joints,
             origins,
             signs,
@@ -191,24 +203,93 @@ impl LegIk {
         let target = IkTarget::Pose(*sole_in_torso);
         let base = self.polish.chain().base_pose(kin, angles_deg);
         let foot = base.inverse() * sole_in_torso * self.sole_to_ankle;
-        if let Some(seed) = self.closed_form(&foot) {
-            for (k, &j) in self.joints.iter().enumerate() {
-                angles_deg[j] = seed[k];
+        if !foot.translation.vector.iter().all(|v| v.is_finite())
+            || !foot.rotation.coords.iter().all(|v| v.is_finite())
+        {
+            return Err(KinematicsError::NonFiniteTarget);
+        }
+        let start = self.joints.map(|j| angles_deg[j]);
+        let mut best: Option<(IkReport, [f64; 6])> = None;
+        // The closed form starts its hip-point iteration from a guess of hip pitch and roll. From
+        // (0, 0) it lands on the answer except near the Booster hip's gimbal lock (|roll| ≈ 90°),
+        // where other guesses do. The caller's own angles (usually last cycle's) are the last resort.
+        for guess in self.guesses() {
+            let attempt = match guess {
+                Some((hip, knee)) => self.closed_form_from(&foot, hip, knee),
+                None => Some(start),
+            };
+            let Some(attempt) = attempt else { continue };
+            self.write(angles_deg, &attempt);
+            let report = self.polish.solve(kin, &target, angles_deg)?;
+            let result = self.joints.map(|j| angles_deg[j]);
+            if report.reached {
+                return Ok(report);
+            }
+            if best
+                .as_ref()
+                .is_none_or(|(b, _)| cost(&report, &self.polish) < cost(b, &self.polish))
+            {
+                best = Some((report, result));
             }
         }
-        self.polish.solve(kin, &target, angles_deg)
+        let (report, result) = best.ok_or(KinematicsError::NonFiniteTarget)?;
+        self.write(angles_deg, &result);
+        Ok(report)
+    }
+
+    /// Closed-form starts: (hip pitch, hip roll) guesses [rad] and knee branch; `None` = the
+    /// caller's angles.
+    fn guesses(&self) -> impl Iterator<Item = Option<((f64, f64), KneeBranch)>> {
+        let extra: &[(f64, f64)] = match self.kind {
+            LegKind::Booster => &[
+                (-1.5, 1.4),
+                (-1.5, -1.4),
+                (1.5, 1.4),
+                (1.5, -1.4),
+                (-2.5, 1.4),
+                (-2.5, -1.4),
+                (0.8, 1.5),
+                (0.8, -1.5),
+                (-0.8, 1.5),
+                (-0.8, -1.5),
+            ],
+            LegKind::Nao => &[],
+        };
+        let bent = |hip| Some((hip, KneeBranch::Bent));
+        // The knee axis sits slightly behind the thigh line, so a nearly straight knee has two
+        // solutions (a few degrees either side of the thigh line).
+        [bent((0.0, 0.0)), Some(((0.0, 0.0), KneeBranch::Straighter))]
+            .into_iter()
+            .chain(extra.iter().copied().map(bent))
+            .chain(std::iter::once(None))
+    }
+
+    fn write(&self, angles_deg: &mut [f64], leg: &[f64; 6]) {
+        for (k, &j) in self.joints.iter().enumerate() {
+            angles_deg[j] = leg[k];
+        }
     }
 
     /// Leg angles [deg] for the ankle-roll frame pose `foot` in the leg's base frame, from the
     /// closed form alone; `None` when the target is not finite.
     pub fn closed_form(&self, foot: &Isometry3<f64>) -> Option<[f64; 6]> {
+        self.closed_form_from(foot, (0.0, 0.0), KneeBranch::Bent)
+    }
+
+    fn closed_form_from(
+        &self,
+        foot: &Isometry3<f64>,
+        hip_guess: (f64, f64),
+        knee: KneeBranch,
+    ) -> Option<[f64; 6]> {
         let r_foot = foot.rotation.to_rotation_matrix();
         let p_foot = foot.translation.vector;
         let o = &self.origins;
         let (thigh, shank) = (o[3], o[4]);
-        let mut rho = [0.0; 6];
-        // Two passes: the Booster hip point depends on the hip pitch/roll found in the first pass.
-        for _ in 0..2 {
+        let mut rho = [hip_guess.0, hip_guess.1, 0.0, 0.0, 0.0, 0.0];
+        // Fixed-point passes: the Booster hip point depends on the hip pitch/roll of the previous
+        // pass (2 suffice for ordinary poses, legs swung far forward need more).
+        for _ in 0..4 {
             let hip = match self.kind {
                 LegKind::Booster => {
                     o[0] + Rotation3::from_axis_angle(&Vector3::y_axis(), rho[0])
@@ -217,13 +298,19 @@ impl LegIk {
                 LegKind::Nao => o[0] + o[1] + o[2],
             };
             let v = r_foot.inverse() * (hip - p_foot);
-            rho[5] = v.y.atan2(v.z);
+            // Of the two rolls that put the hip in the ankle-pitch plane, the one within ±90°:
+            // the other turns the foot upside down, beyond every ankle's limits.
+            rho[5] = half_turn_range(v.y.atan2(v.z));
             let w = Rotation3::from_axis_angle(&Vector3::x_axis(), rho[5]) * v + o[5];
             let reach = (w.x * w.x + w.z * w.z).sqrt();
             let (lt, ls) = (planar_len(&thigh), planar_len(&shank));
             let cos_inner =
                 ((reach * reach - lt * lt - ls * ls) / (2.0 * lt * ls)).clamp(-1.0, 1.0);
-            rho[3] = wrap(planar_angle(&thigh) - planar_angle(&shank)) + cos_inner.acos();
+            let inner = match knee {
+                KneeBranch::Bent => cos_inner.acos(),
+                KneeBranch::Straighter => -cos_inner.acos(),
+            };
+            rho[3] = wrap(planar_angle(&thigh) - planar_angle(&shank)) + inner;
             let u = -(shank + Rotation3::from_axis_angle(&Vector3::y_axis(), -rho[3]) * thigh);
             rho[4] = wrap(planar_angle(&u) - planar_angle(&w));
             let hip_rotation = r_foot.matrix()
@@ -243,7 +330,8 @@ impl LegIk {
         }
         let mut angles = [0.0; 6];
         for k in 0..6 {
-            angles[k] = (self.signs[k] * rho[k]).to_degrees();
+            let (lo, hi) = self.limits_deg[k];
+            angles[k] = into_limits((self.signs[k] * rho[k]).to_degrees(), lo, hi);
         }
         angles.iter().all(|a| a.is_finite()).then_some(angles)
     }
@@ -264,6 +352,11 @@ impl LegIk {
     }
 }
 
+fn cost(report: &IkReport, ik: &NumericIk) -> f64 {
+    let w = ik.options().orientation_weight;
+    report.position_error.powi(2) + (w * report.orientation_error).powi(2)
+}
+
 /// R = Ry(a)·Rx(b)·Rz(c) → (a, b, c).
 fn euler_yxz(r: &Matrix3<f64>) -> (f64, f64, f64) {
     let b = (-r[(1, 2)]).clamp(-1.0, 1.0).asin();
@@ -280,6 +373,25 @@ fn planar_angle(v: &Vector3<f64>) -> f64 {
 
 fn planar_len(v: &Vector3<f64>) -> f64 {
     (v.x * v.x + v.z * v.z).sqrt()
+}
+
+/// `angle` or a whole turn away from it, whichever lies within [lo, hi] (or is nearest to it).
+fn into_limits(angle: f64, lo: f64, hi: f64) -> f64 {
+    let outside = |a: f64| (lo - a).max(a - hi).max(0.0);
+    [angle, angle - 360.0, angle + 360.0]
+        .into_iter()
+        .min_by(|a, b| outside(*a).total_cmp(&outside(*b)))
+        .unwrap_or(angle)
+}
+
+fn half_turn_range(angle: f64) -> f64 {
+    if angle > PI / 2.0 {
+        angle - PI
+    } else if angle < -PI / 2.0 {
+        angle + PI
+    } else {
+        angle
+    }
 }
 
 fn wrap(angle: f64) -> f64 {

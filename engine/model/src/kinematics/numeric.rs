@@ -179,9 +179,15 @@ impl NumericIk {
             let next_state = self.chain.evaluate_from(kin, base, angles_deg);
             let next = residual(&next_state, target, weight);
             if next.cost() < current.cost() && next.cost().is_finite() {
+                // Converging steps shrink the cost by orders of magnitude; a creep means a target
+                // out of reach (or held by a limit), where more iterations buy nothing.
+                let stalled = next.cost() > current.cost() * (1.0 - 1e-6);
                 state = next_state;
                 current = next;
                 damping = (damping * 0.3).max(1e-9);
+                if stalled {
+                    break;
+                }
             } else {
                 for (k, &j) in joints.iter().enumerate() {
                     angles_deg[j] = previous[k];
