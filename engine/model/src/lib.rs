@@ -9,5 +9,6 @@ pub mod kinematics;
 pub mod location;
 pub mod robot;
 
+pub use field::{FieldError, FieldGeometry, Landmark};
 pub use location::{Located, SourceLocation};
 pub use robot::{Gains, Joint, JointId, ModelError, RobotModel, ServerKind};
