@@ -1,1 +1,181 @@
-fn main() {}
+//! Tick cost of the shipped field-player tree (vs the same decisions hand-written in Rust),
+//! validation time of all shipped files, and reload latency beyond the debounce window.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use libero_behavior::testing::ScriptedHost;
+use libero_behavior::{
+    validate_paths, Args, Host, Library, LiveLibrary, ReloadOptions, Status, TreeRunner, Value,
+    Vec2, Vocabulary,
+};
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+fn shipped() -> Vec<PathBuf> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    vec![root.join("behaviors"), root.join("formations")]
+}
+
+/// A host that answers from constants and does no bookkeeping, so the bench measures the engine.
+struct BenchHost {
+    ids: Vocabulary,
+}
+
+impl Host for BenchHost {
+    fn now(&self) -> f64 {
+        1.0
+    }
+    fn query(&self, id: libero_behavior::NativeId, _args: Args) -> Value {
+        match self.ids.spec(id).name.as_str() {
+            "am_closest_to_ball" => Value::Bool(true),
+            "ball_distance" => Value::Float(3.0),
+            "ball_position" => Value::Vec2(Vec2::new(1.0, 2.0)),
+            _ => Value::Vec2(Vec2::new(-5.0, 0.0)),
+        }
+    }
+    fn condition(&self, id: libero_behavior::NativeId, args: Args) -> bool {
+        self.ids.spec(id).name == "PlayModeIs" && args.str(0) == "PlayOn"
+    }
+    fn action(&mut self, _id: libero_behavior::NativeId, args: Args) -> Status {
+        black_box(args.vec2(0));
+        Status::Running
+    }
+}
+
+/// The field player's play-on decisions written directly in Rust: the baseline.
+fn hand_written(
+    host: &mut BenchHost,
+    ids: &[libero_behavior::NativeId; 6],
+    modes: &[Value; 2],
+) -> Status {
+    let [fallen, mode, closest, distance, ball, walk] = *ids;
+    if host.condition(fallen, Args(&[])) {
+        return Status::Running;
+    }
+    if host.condition(mode, Args(&modes[..1])) {
+        return Status::Running;
+    }
+    if !host.condition(mode, Args(&modes[1..])) {
+        return Status::Running;
+    }
+    let chase = 0.5 * f64::from(u8::from(host.query(closest, Args(&[])).as_bool()))
+        + 0.5 * (1.0 - host.query(distance, Args(&[])).as_f64() / 20.0);
+    let target = if chase + 0.1 > 0.6 {
+        host.query(ball, Args(&[]))
+    } else {
+        Value::Vec2(Vec2::new(-5.0, 0.0))
+    };
+    host.action(walk, Args(&[target, Value::Float(0.6), Value::Float(0.2)]))
+}
+
+fn tick(c: &mut Criterion) {
+    let vocabulary = Vocabulary::reference();
+    let library =
+        Arc::new(Library::load(&shipped(), &vocabulary).expect("shipped files are valid"));
+    let mut host = BenchHost {
+        ids: vocabulary.clone(),
+    };
+    let mut runner = TreeRunner::new(&library, "FieldPlayer").unwrap();
+    runner.tick(&mut host, &library);
+    assert!(runner
+        .trace()
+        .last()
+        .unwrap()
+        .leaves()
+        .contains(&("Action WalkTo", Status::Running)));
+    c.bench_function("tick field player (engine)", |b| {
+        b.iter(|| runner.tick(&mut host, &library))
+    });
+    let mut untraced = TreeRunner::new(&library, "FieldPlayer")
+        .unwrap()
+        .with_trace_capacity(0);
+    c.bench_function("tick field player (engine, no trace)", |b| {
+        b.iter(|| untraced.tick(&mut host, &library))
+    });
+    use libero_behavior::NativeKind::*;
+    let ids = [
+        vocabulary.find(Condition, "IsFallen").unwrap(),
+        vocabulary.find(Condition, "PlayModeIs").unwrap(),
+        vocabulary.find(Query, "am_closest_to_ball").unwrap(),
+        vocabulary.find(Query, "ball_distance").unwrap(),
+        vocabulary.find(Query, "ball_position").unwrap(),
+        vocabulary.find(Action, "WalkTo").unwrap(),
+    ];
+    let modes = [
+        Value::String("BeforeKickOff".into()),
+        Value::String("PlayOn".into()),
+    ];
+    c.bench_function("tick field player (hand-written baseline)", |b| {
+        b.iter(|| hand_written(&mut host, black_box(&ids), &modes))
+    });
+    let mut scripted = ScriptedHost::new(&vocabulary);
+    scripted
+        .queries
+        .insert("play_mode".into(), Value::String("PlayOn".into()));
+    black_box(runner.tick(&mut scripted, &library));
+}
+
+fn validate(c: &mut Criterion) {
+    let vocabulary = Vocabulary::reference();
+    let paths = shipped();
+    assert_eq!(validate_paths(&paths, &vocabulary).error_count(), 0);
+    c.bench_function("validate all shipped files", |b| {
+        b.iter(|| validate_paths(black_box(&paths), &vocabulary))
+    });
+}
+
+fn reload(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap();
+    for sub in ["behaviors", "formations"] {
+        std::fs::create_dir_all(dir.path().join(sub)).unwrap();
+        for entry in std::fs::read_dir(
+            PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("../..")
+                .join(sub),
+        )
+        .unwrap()
+        {
+            let entry = entry.unwrap();
+            std::fs::copy(entry.path(), dir.path().join(sub).join(entry.file_name())).unwrap();
+        }
+    }
+    let debounce = Duration::from_millis(50);
+    let paths = vec![dir.path().join("behaviors"), dir.path().join("formations")];
+    let live = LiveLibrary::start(
+        paths,
+        Arc::new(Vocabulary::reference()),
+        ReloadOptions { debounce },
+    )
+    .unwrap();
+    let file = dir.path().join("behaviors/goalkeeper.ron");
+    let original = std::fs::read_to_string(&file).unwrap();
+    let mut counter = 0u64;
+    let mut group = c.benchmark_group("reload");
+    group.sample_size(10);
+    group.bench_function("file write to swap, beyond the debounce window", |b| {
+        b.iter_custom(|iterations| {
+            let mut beyond = Duration::ZERO;
+            for _ in 0..iterations {
+                counter += 1;
+                let before = live.generation();
+                let start = Instant::now();
+                std::fs::write(&file, format!("{original}\n// edit {counter}\n")).unwrap();
+                while live.generation() == before {
+                    std::thread::sleep(Duration::from_micros(200));
+                    assert!(
+                        start.elapsed() < Duration::from_secs(5),
+                        "reload never happened"
+                    );
+                }
+                beyond += start.elapsed().saturating_sub(debounce);
+                live.drain_events();
+            }
+            beyond
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, tick, validate, reload);
+criterion_main!(benches);

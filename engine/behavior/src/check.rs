@@ -26,7 +26,10 @@ fn position(source: &SourceFile, span: Span) -> String {
     format!("{}:{line}:{column}", source.path.display())
 }
 
-pub fn collect_definitions<'a>(files: &'a [LoadedBehaviors], report: &mut Report) -> Definitions<'a> {
+pub fn collect_definitions<'a>(
+    files: &'a [LoadedBehaviors],
+    report: &mut Report,
+) -> Definitions<'a> {
     let mut trees: BTreeMap<&str, (&Arc<SourceFile>, &TreeDef)> = BTreeMap::new();
     let mut blackboard: BTreeMap<&str, (&Arc<SourceFile>, &BlackboardDecl)> = BTreeMap::new();
     for loaded in files {
@@ -34,9 +37,12 @@ pub fn collect_definitions<'a>(files: &'a [LoadedBehaviors], report: &mut Report
             if let Some((first_file, first)) = trees.get(tree.name.as_str()) {
                 let hint = format!("first defined at {}", position(first_file, first.name_span));
                 report.push(
-                    Diagnostic::error("duplicate-tree", format!("tree `{}` is defined twice", tree.name))
-                        .at(&loaded.source, tree.name_span)
-                        .hint(hint),
+                    Diagnostic::error(
+                        "duplicate-tree",
+                        format!("tree `{}` is defined twice", tree.name),
+                    )
+                    .at(&loaded.source, tree.name_span)
+                    .hint(hint),
                 );
             } else {
                 trees.insert(&tree.name, (&loaded.source, tree));
@@ -44,10 +50,24 @@ pub fn collect_definitions<'a>(files: &'a [LoadedBehaviors], report: &mut Report
         }
         for decl in &loaded.file.blackboard {
             match blackboard.get(decl.key.as_str()) {
-                Some((first_file, first)) if first.ty != decl.ty || first.initial != decl.initial => {
-                    let hint = format!("first declared at {} as {}({})", position(first_file, first.key_span), first.ty, first.initial);
-                    let message = format!("blackboard entry `{}` is declared twice, differently", decl.key);
-                    report.push(Diagnostic::error("conflicting-blackboard-entry", message).at(&loaded.source, decl.key_span).hint(hint));
+                Some((first_file, first))
+                    if first.ty != decl.ty || first.initial != decl.initial =>
+                {
+                    let hint = format!(
+                        "first declared at {} as {}({})",
+                        position(first_file, first.key_span),
+                        first.ty,
+                        first.initial
+                    );
+                    let message = format!(
+                        "blackboard entry `{}` is declared twice, differently",
+                        decl.key
+                    );
+                    report.push(
+                        Diagnostic::error("conflicting-blackboard-entry", message)
+                            .at(&loaded.source, decl.key_span)
+                            .hint(hint),
+                    );
                 }
                 Some(_) => {}
                 None => {
@@ -56,19 +76,40 @@ pub fn collect_definitions<'a>(files: &'a [LoadedBehaviors], report: &mut Report
             }
         }
     }
-    Definitions { trees, blackboard: blackboard.into_iter().map(|(k, (_, d))| (k, d)).collect() }
+    Definitions {
+        trees,
+        blackboard: blackboard.into_iter().map(|(k, (_, d))| (k, d)).collect(),
+    }
 }
 
+/// Subtree calls per tree: (callee, call site, file), for cycle detection.
+type CallGraph<'a> = BTreeMap<&'a str, Vec<(&'a str, Span, &'a Arc<SourceFile>)>>;
+
 /// Checks every tree; returns, per tree, the subtrees it calls (for cycle detection).
-pub fn check_trees(files: &[LoadedBehaviors], defs: &Definitions, vocabulary: &Vocabulary, report: &mut Report) {
-    let mut calls: BTreeMap<&str, Vec<(&str, Span, &Arc<SourceFile>)>> = BTreeMap::new();
+pub fn check_trees(
+    files: &[LoadedBehaviors],
+    defs: &Definitions,
+    vocabulary: &Vocabulary,
+    report: &mut Report,
+) {
+    let mut calls: CallGraph = BTreeMap::new();
     for loaded in files {
         for tree in &loaded.file.trees {
-            let mut checker = Checker { source: &loaded.source, tree, defs, vocabulary, report, calls: Vec::new() };
+            let mut checker = Checker {
+                source: &loaded.source,
+                tree,
+                defs,
+                vocabulary,
+                report,
+                calls: Vec::new(),
+            };
             checker.params_defaults();
             checker.node(&tree.root);
             let found = std::mem::take(&mut checker.calls);
-            calls.entry(&tree.name).or_default().extend(found.into_iter().map(|(n, s)| (n, s, &loaded.source)));
+            calls
+                .entry(&tree.name)
+                .or_default()
+                .extend(found.into_iter().map(|(n, s)| (n, s, &loaded.source)));
         }
     }
     report_cycles(&calls, report);
@@ -85,14 +126,23 @@ struct Checker<'a, 'r> {
 
 impl<'a> Checker<'a, '_> {
     fn error(&mut self, code: &'static str, span: Span, message: String, hint: Option<String>) {
-        self.report.push(Diagnostic::error(code, message).at(self.source, span).maybe_hint(hint));
+        self.report.push(
+            Diagnostic::error(code, message)
+                .at(self.source, span)
+                .maybe_hint(hint),
+        );
     }
 
     fn params_defaults(&mut self) {
         let mut seen = HashSet::new();
         for param in &self.tree.params {
             if !seen.insert(param.name.as_str()) {
-                self.error("duplicate-parameter", param.span, format!("parameter `{}` declared twice", param.name), None);
+                self.error(
+                    "duplicate-parameter",
+                    param.span,
+                    format!("parameter `{}` declared twice", param.name),
+                    None,
+                );
             }
         }
     }
@@ -101,26 +151,50 @@ impl<'a> Checker<'a, '_> {
         match &node.kind {
             NodeDefKind::Composite(kind, children) => {
                 if children.is_empty() {
-                    self.error("empty-composite", node.head_span, format!("`{}` has no children", kind.name()), None);
+                    self.error(
+                        "empty-composite",
+                        node.head_span,
+                        format!("`{}` has no children", kind.name()),
+                        None,
+                    );
                 }
                 children.iter().for_each(|c| self.node(c));
             }
-            NodeDefKind::Parallel { success, failure, threshold_span, children } => {
+            NodeDefKind::Parallel {
+                success,
+                failure,
+                threshold_span,
+                children,
+            } => {
                 let n = children.len() as u32;
                 if *success > n || *failure > n {
                     let message = format!("`Parallel` thresholds (success: {success}, failure: {failure}) exceed its {n} children");
-                    self.error("bad-threshold", *threshold_span, message, Some("each threshold must be between 1 and the number of children".into()));
+                    self.error(
+                        "bad-threshold",
+                        *threshold_span,
+                        message,
+                        Some("each threshold must be between 1 and the number of children".into()),
+                    );
                 }
                 children.iter().for_each(|c| self.node(c));
             }
-            NodeDefKind::Decorator(_, child) | NodeDefKind::Counted(_, _, child) | NodeDefKind::Timed(_, _, child) => self.node(child),
+            NodeDefKind::Decorator(_, child)
+            | NodeDefKind::Counted(_, _, child)
+            | NodeDefKind::Timed(_, _, child) => self.node(child),
             NodeDefKind::Utility { choices, .. } => {
                 for choice in choices {
                     for consideration in &choice.considerations {
                         if let Some(ty) = self.expr(&consideration.input) {
                             if !ty.is_scalar() {
-                                let message = format!("a consideration's input must be numeric or Bool, found {ty}");
-                                self.error("type-mismatch", consideration.input.span, message, None);
+                                let message = format!(
+                                    "a consideration's input must be numeric or Bool, found {ty}"
+                                );
+                                self.error(
+                                    "type-mismatch",
+                                    consideration.input.span,
+                                    message,
+                                    None,
+                                );
                             }
                         }
                     }
@@ -133,7 +207,10 @@ impl<'a> Checker<'a, '_> {
             NodeDefKind::Compare { left, op, right } => {
                 let (l, r) = (self.expr(left), self.expr(right));
                 if let (Some(l), Some(r)) = (l, r) {
-                    let ordered = matches!(op, CompareOp::Lt | CompareOp::Le | CompareOp::Gt | CompareOp::Ge);
+                    let ordered = matches!(
+                        op,
+                        CompareOp::Lt | CompareOp::Le | CompareOp::Gt | CompareOp::Ge
+                    );
                     let comparable = if ordered {
                         l.is_scalar() && r.is_scalar()
                     } else {
@@ -145,11 +222,17 @@ impl<'a> Checker<'a, '_> {
                     }
                 }
             }
-            NodeDefKind::Set { key, key_span, value } => {
+            NodeDefKind::Set {
+                key,
+                key_span,
+                value,
+            } => {
                 let declared = self.blackboard_type(key, *key_span);
                 if let (Some(declared), Some(found)) = (declared, self.expr(value)) {
                     if !found.fits(declared) {
-                        let message = format!("blackboard entry `{key}` is {declared}, but the value is {found}");
+                        let message = format!(
+                            "blackboard entry `{key}` is {declared}, but the value is {found}"
+                        );
                         self.error("type-mismatch", value.span, message, None);
                     }
                 }
@@ -163,7 +246,12 @@ impl<'a> Checker<'a, '_> {
         if declared.is_none() {
             let hint = did_you_mean(key, self.defs.blackboard.keys().copied())
                 .or_else(|| Some("declare it in a file's `blackboard: { .. }`".into()));
-            self.error("unknown-blackboard-entry", span, format!("unknown blackboard entry `{key}`"), hint);
+            self.error(
+                "unknown-blackboard-entry",
+                span,
+                format!("unknown blackboard entry `{key}`"),
+                hint,
+            );
         }
         declared
     }
@@ -174,7 +262,12 @@ impl<'a> Checker<'a, '_> {
             ExprKind::Const(value) => Some(value.value_type()),
             ExprKind::Blackboard(key) => self.blackboard_type(key, expr.span),
             ExprKind::Param(name) => {
-                let declared = self.tree.params.iter().find(|p| &p.name == name).map(|p| p.ty);
+                let declared = self
+                    .tree
+                    .params
+                    .iter()
+                    .find(|p| &p.name == name)
+                    .map(|p| p.ty);
                 if declared.is_none() {
                     let hint = did_you_mean(name, self.tree.params.iter().map(|p| p.name.as_str())).or_else(|| {
                         Some(format!("declare it with `\"{}\": Tree(params: {{ \"{name}\": Float }}, root: ..)`", self.tree.name))
@@ -187,7 +280,12 @@ impl<'a> Checker<'a, '_> {
             ExprKind::Query(call) => {
                 let Some(id) = self.vocabulary.find(NativeKind::Query, &call.name) else {
                     let hint = did_you_mean(&call.name, self.vocabulary.names(NativeKind::Query));
-                    self.error("unknown-query", call.name_span, format!("unknown query `{}`", call.name), hint);
+                    self.error(
+                        "unknown-query",
+                        call.name_span,
+                        format!("unknown query `{}`", call.name),
+                        hint,
+                    );
                     return None;
                 };
                 let spec = self.vocabulary.spec(id);
@@ -203,7 +301,12 @@ impl<'a> Checker<'a, '_> {
                 .into_iter()
                 .find(|k| *k != kind && self.vocabulary.find(*k, &call.name).is_some());
             let hint = match other {
-                Some(other) => Some(format!("`{}` is a {}, not a {}", call.name, other.name(), kind.name())),
+                Some(other) => Some(format!(
+                    "`{}` is a {}, not a {}",
+                    call.name,
+                    other.name(),
+                    kind.name()
+                )),
                 None => did_you_mean(&call.name, self.vocabulary.names(kind)),
             };
             let message = format!("unknown {} `{}`", kind.name(), call.name);
@@ -211,7 +314,11 @@ impl<'a> Checker<'a, '_> {
             return;
         };
         let spec = self.vocabulary.spec(id);
-        self.args(&spec.params, call, &format!("{} `{}`", kind.name(), call.name));
+        self.args(
+            &spec.params,
+            call,
+            &format!("{} `{}`", kind.name(), call.name),
+        );
     }
 
     /// Checks a call's arguments against declared parameters: names, presence, types, ranges.
@@ -219,20 +326,39 @@ impl<'a> Checker<'a, '_> {
         let mut given = HashSet::new();
         for arg in &call.args {
             if !given.insert(arg.name.as_str()) {
-                self.error("duplicate-parameter", arg.name_span, format!("parameter `{}` given twice", arg.name), None);
+                self.error(
+                    "duplicate-parameter",
+                    arg.name_span,
+                    format!("parameter `{}` given twice", arg.name),
+                    None,
+                );
             }
             let Some(param) = params.iter().find(|p| p.name == arg.name) else {
-                let hint = did_you_mean(&arg.name, params.iter().map(|p| p.name.as_str())).or_else(|| {
-                    let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
-                    Some(if names.is_empty() { format!("{what} takes no parameters") } else { format!("parameters are: {}", names.join(", ")) })
-                });
-                self.error("unknown-parameter", arg.name_span, format!("{what} has no parameter `{}`", arg.name), hint);
+                let hint =
+                    did_you_mean(&arg.name, params.iter().map(|p| p.name.as_str())).or_else(|| {
+                        let names: Vec<&str> = params.iter().map(|p| p.name.as_str()).collect();
+                        Some(if names.is_empty() {
+                            format!("{what} takes no parameters")
+                        } else {
+                            format!("parameters are: {}", names.join(", "))
+                        })
+                    });
+                self.error(
+                    "unknown-parameter",
+                    arg.name_span,
+                    format!("{what} has no parameter `{}`", arg.name),
+                    hint,
+                );
                 continue;
             };
             self.arg_value(param, arg);
         }
-        let reported = |name: &str| given.contains(name) || call.invalid_args.iter().any(|a| a == name);
-        for param in params.iter().filter(|p| p.default.is_none() && !reported(&p.name)) {
+        let reported =
+            |name: &str| given.contains(name) || call.invalid_args.iter().any(|a| a == name);
+        for param in params
+            .iter()
+            .filter(|p| p.default.is_none() && !reported(&p.name))
+        {
             let hint = Some(format!("add `{}: <{}>`", param.name, param.ty));
             let message = format!("{what} needs parameter `{}` ({})", param.name, param.ty);
             self.error("missing-parameter", call.name_span, message, hint);
@@ -240,18 +366,32 @@ impl<'a> Checker<'a, '_> {
     }
 
     fn arg_value(&mut self, param: &ParamSpec, arg: &Arg) {
-        let Some(found) = self.expr(&arg.value) else { return };
+        let Some(found) = self.expr(&arg.value) else {
+            return;
+        };
         if !found.fits(param.ty) {
-            let message = format!("parameter `{}` is {}, but the value is {found}", param.name, param.ty);
+            let message = format!(
+                "parameter `{}` is {}, but the value is {found}",
+                param.name, param.ty
+            );
             self.error("type-mismatch", arg.value.span, message, None);
             return;
         }
-        let ExprKind::Const(value) = &arg.value.kind else { return };
+        let ExprKind::Const(value) = &arg.value.kind else {
+            return;
+        };
         if let (Some((min, max)), true) = (param.range, found.is_scalar()) {
             let x = value.as_f64();
             if x < min || x > max {
-                let unit = if param.unit.is_empty() { String::new() } else { format!(" {}", param.unit) };
-                let message = format!("{x}{unit} is out of range [{min}, {max}] for `{}`", param.name);
+                let unit = if param.unit.is_empty() {
+                    String::new()
+                } else {
+                    format!(" {}", param.unit)
+                };
+                let message = format!(
+                    "{x}{unit} is out of range [{min}, {max}] for `{}`",
+                    param.name
+                );
                 self.error("out-of-range", arg.value.span, message, None);
             }
         }
@@ -268,20 +408,28 @@ impl<'a> Checker<'a, '_> {
     fn subtree(&mut self, call: &'a Call) {
         let Some((_, tree)) = self.defs.trees.get(call.name.as_str()) else {
             let hint = did_you_mean(&call.name, self.defs.trees.keys().copied());
-            self.error("missing-subtree", call.name_span, format!("no tree named `{}`", call.name), hint);
+            self.error(
+                "missing-subtree",
+                call.name_span,
+                format!("no tree named `{}`", call.name),
+                hint,
+            );
             return;
         };
         self.calls.push((&call.name, call.name_span));
         let params: Vec<ParamSpec> = tree
             .params
             .iter()
-            .map(|p| ParamSpec { default: p.default.clone(), ..ParamSpec::new(&p.name, p.ty) })
+            .map(|p| ParamSpec {
+                default: p.default.clone(),
+                ..ParamSpec::new(&p.name, p.ty)
+            })
             .collect();
         self.args(&params, call, &format!("tree `{}`", call.name));
     }
 }
 
-fn report_cycles(calls: &BTreeMap<&str, Vec<(&str, Span, &Arc<SourceFile>)>>, report: &mut Report) {
+fn report_cycles(calls: &CallGraph, report: &mut Report) {
     #[derive(Clone, Copy, PartialEq)]
     enum Mark {
         Active,
@@ -289,7 +437,7 @@ fn report_cycles(calls: &BTreeMap<&str, Vec<(&str, Span, &Arc<SourceFile>)>>, re
     }
     fn visit<'a>(
         tree: &'a str,
-        calls: &BTreeMap<&'a str, Vec<(&'a str, Span, &Arc<SourceFile>)>>,
+        calls: &CallGraph<'a>,
         marks: &mut HashMap<&'a str, Mark>,
         path: &mut Vec<&'a str>,
         report: &mut Report,

@@ -44,17 +44,31 @@ pub struct CChoice {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Op {
     Composite(CompositeKind),
-    Parallel { success: u32, failure: u32 },
+    Parallel {
+        success: u32,
+        failure: u32,
+    },
     Decorator(DecoratorKind),
     Counted(CountKind, u32),
     Timed(TimedKind, f64),
-    Utility { hysteresis: f64, choices: Vec<CChoice> },
+    Utility {
+        hysteresis: f64,
+        choices: Vec<CChoice>,
+    },
     Condition(NativeId, Box<[CExpr]>),
     Action(NativeId, Box<[CExpr]>),
     /// A transparent wrapper kept so traces show which subtree runs.
     SubTree(String),
-    Compare { left: CExpr, op: CompareOp, right: CExpr },
-    Set { slot: Slot, key: std::sync::Arc<str>, value: CExpr },
+    Compare {
+        left: CExpr,
+        op: CompareOp,
+        right: CExpr,
+    },
+    Set {
+        slot: Slot,
+        key: std::sync::Arc<str>,
+        value: CExpr,
+    },
     Wait(f64),
     Succeed,
     Fail,
@@ -97,24 +111,50 @@ impl BlackboardLayout {
     pub fn from_definitions(defs: &Definitions) -> Self {
         let mut layout = Self::default();
         for (key, decl) in &defs.blackboard {
-            layout.slots.insert(key.to_string(), layout.entries.len() as u32);
-            layout.entries.push((key.to_string(), decl.ty, decl.initial.clone()));
+            layout
+                .slots
+                .insert(key.to_string(), layout.entries.len() as u32);
+            layout
+                .entries
+                .push((key.to_string(), decl.ty, decl.initial.clone()));
         }
         layout
     }
 }
 
 /// Compiles a checked tree; `None` only if checking was skipped and something is unresolved.
-pub fn compile_tree(name: &str, defs: &Definitions, layout: &BlackboardLayout, vocabulary: &Vocabulary) -> Option<CompiledTree> {
-    let mut compiler = Compiler { defs, layout, vocabulary, nodes: Vec::new(), depth: 0 };
+pub fn compile_tree(
+    name: &str,
+    defs: &Definitions,
+    layout: &BlackboardLayout,
+    vocabulary: &Vocabulary,
+) -> Option<CompiledTree> {
+    let mut compiler = Compiler {
+        defs,
+        layout,
+        vocabulary,
+        nodes: Vec::new(),
+        depth: 0,
+    };
     let (_, tree) = defs.trees.get(name)?;
     if tree.params.iter().any(|p| p.default.is_none()) {
         return None;
     }
-    let env: HashMap<String, CExpr> =
-        tree.params.iter().map(|p| (p.name.clone(), CExpr::Const(p.default.clone().unwrap_or(Value::Bool(false))))).collect();
+    let env: HashMap<String, CExpr> = tree
+        .params
+        .iter()
+        .map(|p| {
+            (
+                p.name.clone(),
+                CExpr::Const(p.default.clone().unwrap_or(Value::Bool(false))),
+            )
+        })
+        .collect();
     compiler.node(&tree.root, &env, None)?;
-    Some(CompiledTree { name: name.to_string(), nodes: compiler.nodes })
+    Some(CompiledTree {
+        name: name.to_string(),
+        nodes: compiler.nodes,
+    })
 }
 
 struct Compiler<'a> {
@@ -137,7 +177,9 @@ impl Compiler<'_> {
                 Some(ty) => value.clone().coerce(ty),
                 None => value.clone(),
             }),
-            ExprKind::Blackboard(key) => CExpr::Blackboard(Slot(*self.layout.slots.get(key)?), key.as_str().into()),
+            ExprKind::Blackboard(key) => {
+                CExpr::Blackboard(Slot(*self.layout.slots.get(key)?), key.as_str().into())
+            }
             ExprKind::Param(name) => env.get(name)?.clone(),
             ExprKind::Query(call) => {
                 let id = self.vocabulary.find(NativeKind::Query, &call.name)?;
@@ -151,16 +193,29 @@ impl Compiler<'_> {
         let spec = self.vocabulary.spec(id);
         spec.params
             .iter()
-            .map(|param| match call.args.iter().find(|a| a.name == param.name) {
-                Some(arg) => self.expr(&arg.value, env, Some(param.ty)),
-                None => param.default.clone().map(|v| CExpr::Const(v.coerce(param.ty))),
-            })
+            .map(
+                |param| match call.args.iter().find(|a| a.name == param.name) {
+                    Some(arg) => self.expr(&arg.value, env, Some(param.ty)),
+                    None => param
+                        .default
+                        .clone()
+                        .map(|v| CExpr::Const(v.coerce(param.ty))),
+                },
+            )
             .collect()
     }
 
     fn push(&mut self, op: Op, label: String, parent: Option<u32>) -> u32 {
         let index = self.nodes.len() as u32;
-        self.nodes.push(CNode { op, children: Box::new([]), parent, end: index + 1, depth: self.depth, hash: 0, label });
+        self.nodes.push(CNode {
+            op,
+            children: Box::new([]),
+            parent,
+            end: index + 1,
+            depth: self.depth,
+            hash: 0,
+            label,
+        });
         index
     }
 
@@ -169,39 +224,88 @@ impl Compiler<'_> {
             return None;
         }
         let (op, label, children): (Op, String, Vec<(&NodeDef, Option<Env>)>) = match &def.kind {
-            NodeDefKind::Composite(kind, children) => {
-                (Op::Composite(*kind), kind.name().to_string(), children.iter().map(|c| (c, None)).collect())
-            }
-            NodeDefKind::Parallel { success, failure, children, .. } => (
-                Op::Parallel { success: *success, failure: *failure },
+            NodeDefKind::Composite(kind, children) => (
+                Op::Composite(*kind),
+                kind.name().to_string(),
+                children.iter().map(|c| (c, None)).collect(),
+            ),
+            NodeDefKind::Parallel {
+                success,
+                failure,
+                children,
+                ..
+            } => (
+                Op::Parallel {
+                    success: *success,
+                    failure: *failure,
+                },
                 format!("Parallel({success}/{failure})"),
                 children.iter().map(|c| (c, None)).collect(),
             ),
-            NodeDefKind::Decorator(kind, child) => (Op::Decorator(*kind), kind.name().to_string(), vec![(&**child, None)]),
-            NodeDefKind::Counted(kind, n, child) => (Op::Counted(*kind, *n), format!("{kind:?}({n})"), vec![(&**child, None)]),
-            NodeDefKind::Timed(kind, s, child) => (Op::Timed(*kind, *s), format!("{kind:?}({s}s)"), vec![(&**child, None)]),
-            NodeDefKind::Utility { hysteresis, choices } => {
+            NodeDefKind::Decorator(kind, child) => (
+                Op::Decorator(*kind),
+                kind.name().to_string(),
+                vec![(&**child, None)],
+            ),
+            NodeDefKind::Counted(kind, n, child) => (
+                Op::Counted(*kind, *n),
+                format!("{kind:?}({n})"),
+                vec![(&**child, None)],
+            ),
+            NodeDefKind::Timed(kind, s, child) => (
+                Op::Timed(*kind, *s),
+                format!("{kind:?}({s}s)"),
+                vec![(&**child, None)],
+            ),
+            NodeDefKind::Utility {
+                hysteresis,
+                choices,
+            } => {
                 let compiled = choices
                     .iter()
                     .map(|choice| {
                         let considerations = choice
                             .considerations
                             .iter()
-                            .map(|c| Some(CConsideration { input: self.expr(&c.input, env, None)?, curve: c.curve, weight: c.weight }))
+                            .map(|c| {
+                                Some(CConsideration {
+                                    input: self.expr(&c.input, env, None)?,
+                                    curve: c.curve,
+                                    weight: c.weight,
+                                })
+                            })
                             .collect::<Option<Vec<_>>>()?;
-                        Some(CChoice { weight: choice.weight, considerations })
+                        Some(CChoice {
+                            weight: choice.weight,
+                            considerations,
+                        })
                     })
                     .collect::<Option<Vec<_>>>()?;
                 let children = choices.iter().map(|c| (&c.child, None)).collect();
-                (Op::Utility { hysteresis: *hysteresis, choices: compiled }, "Utility".into(), children)
+                (
+                    Op::Utility {
+                        hysteresis: *hysteresis,
+                        choices: compiled,
+                    },
+                    "Utility".into(),
+                    children,
+                )
             }
             NodeDefKind::Condition(call) => {
                 let id = self.vocabulary.find(NativeKind::Condition, &call.name)?;
-                (Op::Condition(id, self.native_args(id, call, env)?), format!("Condition {}", call.name), vec![])
+                (
+                    Op::Condition(id, self.native_args(id, call, env)?),
+                    format!("Condition {}", call.name),
+                    vec![],
+                )
             }
             NodeDefKind::Action(call) => {
                 let id = self.vocabulary.find(NativeKind::Action, &call.name)?;
-                (Op::Action(id, self.native_args(id, call, env)?), format!("Action {}", call.name), vec![])
+                (
+                    Op::Action(id, self.native_args(id, call, env)?),
+                    format!("Action {}", call.name),
+                    vec![],
+                )
             }
             NodeDefKind::SubTree(call) => {
                 let (_, tree) = self.defs.trees.get(call.name.as_str())?;
@@ -213,17 +317,33 @@ impl Compiler<'_> {
                     };
                     inner.insert(param.name.clone(), bound);
                 }
-                (Op::SubTree(call.name.clone()), format!("SubTree {}", call.name), vec![(&tree.root, Some(inner))])
+                (
+                    Op::SubTree(call.name.clone()),
+                    format!("SubTree {}", call.name),
+                    vec![(&tree.root, Some(inner))],
+                )
             }
             NodeDefKind::Compare { left, op, right } => (
-                Op::Compare { left: self.expr(left, env, None)?, op: *op, right: self.expr(right, env, None)? },
+                Op::Compare {
+                    left: self.expr(left, env, None)?,
+                    op: *op,
+                    right: self.expr(right, env, None)?,
+                },
                 format!("Compare({})", op.symbol()),
                 vec![],
             ),
             NodeDefKind::Set { key, value, .. } => {
                 let slot = *self.layout.slots.get(key)?;
                 let ty = self.layout.entries[slot as usize].1;
-                (Op::Set { slot: Slot(slot), key: key.as_str().into(), value: self.expr(value, env, Some(ty))? }, format!("Set {key}"), vec![])
+                (
+                    Op::Set {
+                        slot: Slot(slot),
+                        key: key.as_str().into(),
+                        value: self.expr(value, env, Some(ty))?,
+                    },
+                    format!("Set {key}"),
+                    vec![],
+                )
             }
             NodeDefKind::Wait(s) => (Op::Wait(*s), format!("Wait({s}s)"), vec![]),
             NodeDefKind::Succeed => (Op::Succeed, "Succeed".into(), vec![]),

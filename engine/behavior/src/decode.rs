@@ -16,13 +16,20 @@ impl<'r> Decoder<'r> {
         Self { file, report }
     }
 
-    pub fn error(&mut self, code: &'static str, span: Span, message: impl Into<String>) -> &mut Diagnostic {
-        self.report.push(Diagnostic::error(code, message).at(&self.file, span));
+    pub fn error(
+        &mut self,
+        code: &'static str,
+        span: Span,
+        message: impl Into<String>,
+    ) -> &mut Diagnostic {
+        self.report
+            .push(Diagnostic::error(code, message).at(&self.file, span));
         self.report.diagnostics.last_mut().expect("just pushed")
     }
 
     pub fn warning(&mut self, code: &'static str, span: Span, message: impl Into<String>) {
-        self.report.push(Diagnostic::warning(code, message).at(&self.file, span));
+        self.report
+            .push(Diagnostic::warning(code, message).at(&self.file, span));
     }
 
     fn expected(&mut self, node: &Node, what: &str) {
@@ -33,18 +40,27 @@ impl<'r> Decoder<'r> {
     /// Opens `Name(field: ..)` (or an anonymous `(field: ..)` when `name` is empty).
     pub fn fields<'n>(&mut self, node: &'n Node, name: &str) -> Option<Fields<'n>> {
         match &node.kind {
-            NodeKind::Struct { name: found, body: Body::Fields(fields) }
-                if found.as_ref().is_none_or(|f| f.name == name || name.is_empty()) =>
+            NodeKind::Struct {
+                name: found,
+                body: Body::Fields(fields),
+            } if found
+                .as_ref()
+                .is_none_or(|f| f.name == name || name.is_empty()) =>
             {
                 Some(Fields::new(node.span, fields))
             }
-            NodeKind::Struct { name: found, body: Body::Items(items) }
-                if items.is_empty() && found.as_ref().is_none_or(|f| f.name == name) =>
-            {
+            NodeKind::Struct {
+                name: found,
+                body: Body::Items(items),
+            } if items.is_empty() && found.as_ref().is_none_or(|f| f.name == name) => {
                 Some(Fields::new(node.span, &[]))
             }
             _ => {
-                let shown = if name.is_empty() { "a struct with named fields".into() } else { format!("`{name}(...)`") };
+                let shown = if name.is_empty() {
+                    "a struct with named fields".into()
+                } else {
+                    format!("`{name}(...)`")
+                };
                 self.expected(node, &shown);
                 None
             }
@@ -85,7 +101,11 @@ impl<'r> Decoder<'r> {
     pub fn int_in(&mut self, node: &Node, min: i64, max: i64) -> Option<i64> {
         let value = self.int(node)?;
         if value < min || value > max {
-            self.error("out-of-range", node.span, format!("{value} is out of range [{min}, {max}]"));
+            self.error(
+                "out-of-range",
+                node.span,
+                format!("{value} is out of range [{min}, {max}]"),
+            );
             return None;
         }
         Some(value)
@@ -113,7 +133,10 @@ impl<'r> Decoder<'r> {
 
     pub fn vec2(&mut self, node: &Node) -> Option<Vec2> {
         match &node.kind {
-            NodeKind::Struct { name: None, body: Body::Items(items) } if items.len() == 2 => {
+            NodeKind::Struct {
+                name: None,
+                body: Body::Items(items),
+            } if items.len() == 2 => {
                 let x = self.float(&items[0]);
                 let y = self.float(&items[1]);
                 Some(Vec2::new(x?, y?))
@@ -148,7 +171,9 @@ impl<'r> Decoder<'r> {
     /// The name of a `Name(...)` or bare `Name`, with its span.
     pub fn head(node: &Node) -> Option<(&str, Span)> {
         match &node.kind {
-            NodeKind::Struct { name: Some(id), .. } | NodeKind::Unit(id) => Some((&id.name, id.span)),
+            NodeKind::Struct { name: Some(id), .. } | NodeKind::Unit(id) => {
+                Some((&id.name, id.span))
+            }
             _ => None,
         }
     }
@@ -163,7 +188,11 @@ pub struct Fields<'n> {
 
 impl<'n> Fields<'n> {
     fn new(span: Span, fields: &'n [Field]) -> Self {
-        Self { span, fields, used: vec![false; fields.len()] }
+        Self {
+            span,
+            fields,
+            used: vec![false; fields.len()],
+        }
     }
 
     pub fn take(&mut self, name: &str) -> Option<&'n Node> {
@@ -175,14 +204,24 @@ impl<'n> Fields<'n> {
     pub fn require(&mut self, decoder: &mut Decoder, name: &str) -> Option<&'n Node> {
         let found = self.take(name);
         if found.is_none() {
-            decoder.error("missing-field", self.span, format!("missing field `{name}`"));
+            decoder.error(
+                "missing-field",
+                self.span,
+                format!("missing field `{name}`"),
+            );
         }
         found
     }
 
     /// Fields not read yet, in file order.
     pub fn rest(&mut self) -> Vec<&'n Field> {
-        let rest = self.fields.iter().zip(&self.used).filter(|(_, used)| !**used).map(|(f, _)| f).collect();
+        let rest = self
+            .fields
+            .iter()
+            .zip(&self.used)
+            .filter(|(_, used)| !**used)
+            .map(|(f, _)| f)
+            .collect();
         self.used.iter_mut().for_each(|u| *u = true);
         rest
     }
@@ -192,14 +231,24 @@ impl<'n> Fields<'n> {
         let mut seen: Vec<&str> = Vec::new();
         for field in self.fields {
             if seen.contains(&field.name.name.as_str()) {
-                decoder.error("duplicate-field", field.name.span, format!("field `{}` given twice", field.name.name));
+                decoder.error(
+                    "duplicate-field",
+                    field.name.span,
+                    format!("field `{}` given twice", field.name.name),
+                );
             }
             seen.push(&field.name.name);
         }
         for field in self.rest() {
             let hint = did_you_mean(&field.name.name, known.iter().copied());
             let hint = hint.or_else(|| Some(format!("expected one of: {}", known.join(", "))));
-            decoder.error("unknown-field", field.name.span, format!("unknown field `{}`", field.name.name)).hint = hint;
+            decoder
+                .error(
+                    "unknown-field",
+                    field.name.span,
+                    format!("unknown field `{}`", field.name.name),
+                )
+                .hint = hint;
         }
     }
 }

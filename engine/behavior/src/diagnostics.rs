@@ -27,7 +27,11 @@ impl SourceFile {
         let line_starts = std::iter::once(0)
             .chain(text.match_indices('\n').map(|(i, _)| i + 1))
             .collect();
-        Self { path, text, line_starts }
+        Self {
+            path,
+            text,
+            line_starts,
+        }
     }
 
     /// 1-based line and column (in characters) of a byte offset.
@@ -35,14 +39,23 @@ impl SourceFile {
         let offset = offset.min(self.text.len());
         let line = self.line_starts.partition_point(|&start| start <= offset) - 1;
         let start = self.line_starts[line];
-        let column = self.text.get(start..offset).map_or(offset - start, |s| s.chars().count());
+        let column = self
+            .text
+            .get(start..offset)
+            .map_or(offset - start, |s| s.chars().count());
         (line + 1, column + 1)
     }
 
     fn line_text(&self, line: usize) -> &str {
         let start = self.line_starts[line - 1];
-        let end = self.line_starts.get(line).map_or(self.text.len(), |&next| next - 1);
-        self.text.get(start..end).unwrap_or("").trim_end_matches('\r')
+        let end = self
+            .line_starts
+            .get(line)
+            .map_or(self.text.len(), |&next| next - 1);
+        self.text
+            .get(start..end)
+            .unwrap_or("")
+            .trim_end_matches('\r')
     }
 }
 
@@ -65,15 +78,27 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     pub fn error(code: &'static str, message: impl Into<String>) -> Self {
-        Self { severity: Severity::Error, code, message: message.into(), location: None, hint: None }
+        Self {
+            severity: Severity::Error,
+            code,
+            message: message.into(),
+            location: None,
+            hint: None,
+        }
     }
 
     pub fn warning(code: &'static str, message: impl Into<String>) -> Self {
-        Self { severity: Severity::Warning, ..Self::error(code, message) }
+        Self {
+            severity: Severity::Warning,
+            ..Self::error(code, message)
+        }
     }
 
     pub fn at(mut self, file: &Arc<SourceFile>, span: Span) -> Self {
-        self.location = Some(Location { file: file.clone(), span });
+        self.location = Some(Location {
+            file: file.clone(),
+            span,
+        });
         self
     }
 
@@ -117,11 +142,17 @@ impl Report {
     }
 
     pub fn error_count(&self) -> usize {
-        self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count()
+        self.diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Error)
+            .count()
     }
 
     pub fn warning_count(&self) -> usize {
-        self.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count()
+        self.diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Warning)
+            .count()
     }
 
     pub fn has_errors(&self) -> bool {
@@ -132,9 +163,14 @@ impl Report {
     pub fn sort(&mut self) {
         self.diagnostics.sort_by(|a, b| {
             let key = |d: &Diagnostic| {
-                d.location.as_ref().map(|l| (l.file.path.clone(), l.span.start, l.span.end))
+                d.location
+                    .as_ref()
+                    .map(|l| (l.file.path.clone(), l.span.start, l.span.end))
             };
-            key(a).cmp(&key(b)).then(a.severity.cmp(&b.severity)).then(a.message.cmp(&b.message))
+            key(a)
+                .cmp(&key(b))
+                .then(a.severity.cmp(&b.severity))
+                .then(a.message.cmp(&b.message))
         });
     }
 
@@ -158,7 +194,12 @@ impl Report {
             out.push('\n');
         }
         let (errors, warnings) = (self.error_count(), self.warning_count());
-        let _ = writeln!(out, "{errors} error{}, {warnings} warning{}", plural(errors), plural(warnings));
+        let _ = writeln!(
+            out,
+            "{errors} error{}, {warnings} warning{}",
+            plural(errors),
+            plural(warnings)
+        );
         out
     }
 
@@ -171,7 +212,13 @@ impl Report {
                 let position = d.location.as_ref().map(|l| {
                     let (line, column) = l.file.line_col(l.span.start);
                     let (end_line, end_column) = l.file.line_col(l.span.end);
-                    (l.file.path.display().to_string(), line, column, end_line, end_column)
+                    (
+                        l.file.path.display().to_string(),
+                        line,
+                        column,
+                        end_line,
+                        end_column,
+                    )
                 });
                 JsonDiagnostic {
                     severity: d.severity,
@@ -223,7 +270,12 @@ fn render_one(out: &mut String, diagnostic: &Diagnostic, base: &Path) {
         } else {
             text.chars().count().saturating_sub(column - 1).max(1)
         };
-        let _ = writeln!(out, "{pad} | {}{}", " ".repeat(column - 1), "^".repeat(width));
+        let _ = writeln!(
+            out,
+            "{pad} | {}{}",
+            " ".repeat(column - 1),
+            "^".repeat(width)
+        );
         if let Some(hint) = &diagnostic.hint {
             let _ = writeln!(out, "{pad} = hint: {hint}");
         }
@@ -237,7 +289,12 @@ pub fn did_you_mean<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>)
     let lower = unknown.to_lowercase();
     known
         .into_iter()
-        .map(|candidate| (strsim::jaro_winkler(&lower, &candidate.to_lowercase()), candidate))
+        .map(|candidate| {
+            (
+                strsim::jaro_winkler(&lower, &candidate.to_lowercase()),
+                candidate,
+            )
+        })
         .filter(|(score, _)| *score >= 0.8)
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, best)| format!("did you mean `{best}`?"))
@@ -268,7 +325,10 @@ mod tests {
 
     #[test]
     fn suggestions_only_for_close_names() {
-        assert_eq!(did_you_mean("Sequnce", ["Sequence", "Fallback"]).as_deref(), Some("did you mean `Sequence`?"));
+        assert_eq!(
+            did_you_mean("Sequnce", ["Sequence", "Fallback"]).as_deref(),
+            Some("did you mean `Sequence`?")
+        );
         assert_eq!(did_you_mean("Kick", ["Sequence", "Fallback"]), None);
     }
 

@@ -5,10 +5,12 @@
 //! [`TreeRunner`]. `libero validate` calls [`validate_paths`]; `libero nodes` prints
 //! [`Vocabulary::to_markdown`] or [`Vocabulary::to_json`].
 
+mod blackboard;
 mod check;
 mod compile;
 mod decode;
 pub mod diagnostics;
+mod host;
 mod library;
 mod live;
 mod runtime;

@@ -44,8 +44,10 @@ impl Library {
 
     /// Builds a library from in-memory files `(path, text)`, as if read from disk.
     pub fn from_texts(files: &[(&str, &str)], vocabulary: &Vocabulary) -> Result<Library, Report> {
-        let sources: Vec<Arc<SourceFile>> =
-            files.iter().map(|(path, text)| Arc::new(SourceFile::new(PathBuf::from(path), text.to_string()))).collect();
+        let sources: Vec<Arc<SourceFile>> = files
+            .iter()
+            .map(|(path, text)| Arc::new(SourceFile::new(PathBuf::from(path), text.to_string())))
+            .collect();
         let mut report = Report::default();
         let library = build(&sources, vocabulary, &mut report);
         report.sort();
@@ -115,7 +117,10 @@ pub(crate) fn ron_files(paths: &[PathBuf], report: &mut Report) -> Vec<PathBuf> 
                     }
                 }
             }
-            Err(error) => report.push(Diagnostic::error("io", format!("cannot read directory {}: {error}", dir.display()))),
+            Err(error) => report.push(Diagnostic::error(
+                "io",
+                format!("cannot read directory {}: {error}", dir.display()),
+            )),
         }
     }
     let mut files = Vec::new();
@@ -125,7 +130,10 @@ pub(crate) fn ron_files(paths: &[PathBuf], report: &mut Report) -> Vec<PathBuf> 
         } else if path.exists() {
             files.push(path.clone());
         } else {
-            report.push(Diagnostic::error("io", format!("{} does not exist", path.display())));
+            report.push(Diagnostic::error(
+                "io",
+                format!("{} does not exist", path.display()),
+            ));
         }
     }
     files.sort();
@@ -140,11 +148,17 @@ pub(crate) fn read_sources(paths: &[PathBuf]) -> (Vec<Arc<SourceFile>>, Report) 
         match std::fs::read(&path) {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(text) => sources.push(Arc::new(SourceFile::new(path, text))),
-                Err(_) => report.push(Diagnostic::error("io", format!("{} is not UTF-8 text", path.display()))),
+                Err(_) => report.push(Diagnostic::error(
+                    "io",
+                    format!("{} is not UTF-8 text", path.display()),
+                )),
             },
             // A file removed between listing and reading is simply gone (an editor's rename).
             Err(error) if error.kind() == std::io::ErrorKind::NotFound => {}
-            Err(error) => report.push(Diagnostic::error("io", format!("cannot read {}: {error}", path.display()))),
+            Err(error) => report.push(Diagnostic::error(
+                "io",
+                format!("cannot read {}: {error}", path.display()),
+            )),
         }
     }
     (sources, report)
@@ -160,7 +174,14 @@ pub(crate) fn fingerprint(sources: &[Arc<SourceFile>]) -> u64 {
     hasher.finish()
 }
 
-const FILE_KINDS: &[&str] = &["Behaviors", "Formation", "Team", "Goalkeeper", "ShotUtility", "Avoidance"];
+const FILE_KINDS: &[&str] = &[
+    "Behaviors",
+    "Formation",
+    "Team",
+    "Goalkeeper",
+    "ShotUtility",
+    "Avoidance",
+];
 
 struct StrategyFiles {
     strategy: Strategy,
@@ -169,20 +190,35 @@ struct StrategyFiles {
     team_file: Option<Arc<SourceFile>>,
 }
 
-pub(crate) fn build(sources: &[Arc<SourceFile>], vocabulary: &Vocabulary, report: &mut Report) -> Option<Library> {
+pub(crate) fn build(
+    sources: &[Arc<SourceFile>],
+    vocabulary: &Vocabulary,
+    report: &mut Report,
+) -> Option<Library> {
     let mut behaviors = Vec::new();
-    let mut strategy_files = StrategyFiles { strategy: Strategy::default(), formation_files: HashMap::new(), team_file: None };
+    let mut strategy_files = StrategyFiles {
+        strategy: Strategy::default(),
+        formation_files: HashMap::new(),
+        team_file: None,
+    };
     let mut singletons: HashMap<&str, Arc<SourceFile>> = HashMap::new();
     for source in sources {
         let node = match syntax::parse(&source.text) {
             Ok(node) => node,
             Err(error) => {
-                report.push(Diagnostic::error("syntax", error.message).at(source, error.span).maybe_hint(error.hint));
+                report.push(
+                    Diagnostic::error("syntax", error.message)
+                        .at(source, error.span)
+                        .maybe_hint(error.hint),
+                );
                 continue;
             }
         };
         let Some((head, head_span)) = Decoder::head(&node) else {
-            let message = format!("expected a file such as `Behaviors(..)` or `Formation(..)`, found {}", node.describe());
+            let message = format!(
+                "expected a file such as `Behaviors(..)` or `Formation(..)`, found {}",
+                node.describe()
+            );
             report.push(Diagnostic::error("unknown-file-kind", message).at(source, node.span));
             continue;
         };
@@ -190,21 +226,40 @@ pub(crate) fn build(sources: &[Arc<SourceFile>], vocabulary: &Vocabulary, report
         if head != "Behaviors" && head != "Formation" && FILE_KINDS.contains(&head) {
             if let Some(first) = singletons.get(head) {
                 let message = format!("a second `{head}` file");
-                decoder.error("duplicate-definition", head_span, message).hint = Some(format!("`{head}` is already defined in {}", first.path.display()));
+                decoder
+                    .error("duplicate-definition", head_span, message)
+                    .hint = Some(format!(
+                    "`{head}` is already defined in {}",
+                    first.path.display()
+                ));
                 continue;
             }
-            singletons.insert(FILE_KINDS.iter().find(|k| **k == head).copied().unwrap_or("?"), source.clone());
+            singletons.insert(
+                FILE_KINDS
+                    .iter()
+                    .find(|k| **k == head)
+                    .copied()
+                    .unwrap_or("?"),
+                source.clone(),
+            );
         }
         let s = &mut strategy_files.strategy;
         match head {
-            "Behaviors" => behaviors.push(LoadedBehaviors { source: source.clone(), file: parse_behavior_file(&mut decoder, &node) }),
+            "Behaviors" => behaviors.push(LoadedBehaviors {
+                source: source.clone(),
+                file: parse_behavior_file(&mut decoder, &node),
+            }),
             "Formation" => {
                 if let Some(formation) = strategy::parse_formation(&mut decoder, &node) {
                     if let Some((first, _)) = strategy_files.formation_files.get(&formation.name) {
                         let message = format!("formation `{}` is defined twice", formation.name);
-                        decoder.error("duplicate-definition", head_span, message).hint = Some(format!("also defined in {}", first.path.display()));
+                        decoder
+                            .error("duplicate-definition", head_span, message)
+                            .hint = Some(format!("also defined in {}", first.path.display()));
                     } else {
-                        strategy_files.formation_files.insert(formation.name.clone(), (source.clone(), head_span));
+                        strategy_files
+                            .formation_files
+                            .insert(formation.name.clone(), (source.clone(), head_span));
                         s.formations.insert(formation.name.clone(), formation);
                     }
                 }
@@ -219,7 +274,13 @@ pub(crate) fn build(sources: &[Arc<SourceFile>], vocabulary: &Vocabulary, report
             _ => {
                 let hint = did_you_mean(head, FILE_KINDS.iter().copied())
                     .or_else(|| Some(format!("files are one of: {}", FILE_KINDS.join(", "))));
-                decoder.error("unknown-file-kind", head_span, format!("unknown file kind `{head}`")).hint = hint;
+                decoder
+                    .error(
+                        "unknown-file-kind",
+                        head_span,
+                        format!("unknown file kind `{head}`"),
+                    )
+                    .hint = hint;
             }
         }
     }
@@ -248,15 +309,22 @@ pub(crate) fn build(sources: &[Arc<SourceFile>], vocabulary: &Vocabulary, report
 }
 
 fn check_team(files: &StrategyFiles, defs: &crate::check::Definitions, report: &mut Report) {
-    let (Some(team), Some(team_file)) = (&files.strategy.team, &files.team_file) else { return };
+    let (Some(team), Some(team_file)) = (&files.strategy.team, &files.team_file) else {
+        return;
+    };
     for (name, span) in [&team.goalkeeper_tree, &team.field_player_tree] {
         match defs.trees.get(name.as_str()) {
             None => {
                 let hint = did_you_mean(name, defs.trees.keys().copied());
-                report.push(Diagnostic::error("missing-subtree", format!("no tree named `{name}`")).at(team_file, *span).maybe_hint(hint));
+                report.push(
+                    Diagnostic::error("missing-subtree", format!("no tree named `{name}`"))
+                        .at(team_file, *span)
+                        .maybe_hint(hint),
+                );
             }
             Some((_, tree)) if tree.params.iter().any(|p| p.default.is_none()) => {
-                let message = format!("tree `{name}` has required parameters and cannot be a player's root");
+                let message =
+                    format!("tree `{name}` has required parameters and cannot be a player's root");
                 report.push(Diagnostic::error("invalid-value", message).at(team_file, *span));
             }
             Some(_) => {}
@@ -266,51 +334,81 @@ fn check_team(files: &StrategyFiles, defs: &crate::check::Definitions, report: &
         match files.strategy.formations.get(name) {
             None => {
                 let hint = did_you_mean(name, files.strategy.formations.keys().map(String::as_str));
-                report.push(Diagnostic::error("unknown-formation", format!("no formation named `{name}`")).at(team_file, *span).maybe_hint(hint));
+                report.push(
+                    Diagnostic::error("unknown-formation", format!("no formation named `{name}`"))
+                        .at(team_file, *span)
+                        .maybe_hint(hint),
+                );
             }
             Some(formation) if formation.field != team.field => {
-                let message = format!("formation `{name}` is for the {} field, the team plays on {}", formation.field.name, team.field.name);
+                let message = format!(
+                    "formation `{name}` is for the {} field, the team plays on {}",
+                    formation.field.name, team.field.name
+                );
                 report.push(Diagnostic::error("field-mismatch", message).at(team_file, *span));
             }
             Some(_) => {}
         }
     }
     // Files nothing refers to are probably forgotten or misnamed: warn, do not fail.
-    let used_formations: BTreeSet<&str> = team.formations.values().map(|(n, _)| n.as_str()).collect();
+    let used_formations: BTreeSet<&str> =
+        team.formations.values().map(|(n, _)| n.as_str()).collect();
     for (name, (file, span)) in &files.formation_files {
         if !used_formations.contains(name.as_str()) {
             let message = format!("formation `{name}` is not used by the team file");
             report.push(Diagnostic::warning("unused-file", message).at(file, *span));
         }
     }
-    let reachable = reachable_trees(defs, [team.goalkeeper_tree.0.as_str(), team.field_player_tree.0.as_str()]);
+    let reachable = reachable_trees(
+        defs,
+        [
+            team.goalkeeper_tree.0.as_str(),
+            team.field_player_tree.0.as_str(),
+        ],
+    );
     let mut files_seen: HashMap<&Path, (bool, &Arc<SourceFile>, Span)> = HashMap::new();
     for (name, (file, tree)) in &defs.trees {
-        let entry = files_seen.entry(file.path.as_path()).or_insert((false, file, tree.name_span));
+        let entry = files_seen
+            .entry(file.path.as_path())
+            .or_insert((false, file, tree.name_span));
         entry.0 |= reachable.contains(name);
     }
     for (used, file, span) in files_seen.values() {
         if !used {
-            let message = format!("no tree in {} is used by the team's root trees", file.path.display());
+            let message = format!(
+                "no tree in {} is used by the team's root trees",
+                file.path.display()
+            );
             report.push(Diagnostic::warning("unused-file", message).at(file, *span));
         }
     }
 }
 
-fn reachable_trees<'a>(defs: &crate::check::Definitions<'a>, roots: [&'a str; 2]) -> BTreeSet<&'a str> {
+fn reachable_trees<'a>(
+    defs: &crate::check::Definitions<'a>,
+    roots: [&'a str; 2],
+) -> BTreeSet<&'a str> {
     fn calls<'n>(node: &'n NodeDef, out: &mut Vec<&'n str>) {
         match &node.kind {
             NodeDefKind::SubTree(call) => out.push(&call.name),
-            NodeDefKind::Composite(_, children) | NodeDefKind::Parallel { children, .. } => children.iter().for_each(|c| calls(c, out)),
-            NodeDefKind::Decorator(_, child) | NodeDefKind::Counted(_, _, child) | NodeDefKind::Timed(_, _, child) => calls(child, out),
-            NodeDefKind::Utility { choices, .. } => choices.iter().for_each(|c| calls(&c.child, out)),
+            NodeDefKind::Composite(_, children) | NodeDefKind::Parallel { children, .. } => {
+                children.iter().for_each(|c| calls(c, out))
+            }
+            NodeDefKind::Decorator(_, child)
+            | NodeDefKind::Counted(_, _, child)
+            | NodeDefKind::Timed(_, _, child) => calls(child, out),
+            NodeDefKind::Utility { choices, .. } => {
+                choices.iter().for_each(|c| calls(&c.child, out))
+            }
             _ => {}
         }
     }
     let mut seen = BTreeSet::new();
     let mut stack: Vec<&str> = roots.to_vec();
     while let Some(name) = stack.pop() {
-        let Some((key, (_, tree))) = defs.trees.get_key_value(name) else { continue };
+        let Some((key, (_, tree))) = defs.trees.get_key_value(name) else {
+            continue;
+        };
         if seen.insert(*key) {
             let mut found = Vec::new();
             calls(&tree.root, &mut found);

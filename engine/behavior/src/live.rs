@@ -23,7 +23,9 @@ pub struct ReloadOptions {
 
 impl Default for ReloadOptions {
     fn default() -> Self {
-        Self { debounce: Duration::from_millis(150) }
+        Self {
+            debounce: Duration::from_millis(150),
+        }
     }
 }
 
@@ -31,7 +33,11 @@ impl Default for ReloadOptions {
 #[derive(Debug, Clone)]
 pub enum ReloadEvent {
     /// A new version is live. `recovered` is true when it replaces a rejected edit.
-    Reloaded { generation: u64, recovered: bool, warnings: Report },
+    Reloaded {
+        generation: u64,
+        recovered: bool,
+        warnings: Report,
+    },
     /// An edit had errors; the previous version keeps running. Sent once per distinct content.
     Rejected { report: Report },
 }
@@ -52,7 +58,11 @@ pub struct LiveLibrary {
 impl LiveLibrary {
     /// Loads the library (failing with every error if the initial files are broken) and starts
     /// watching `paths` for changes.
-    pub fn start(paths: Vec<PathBuf>, vocabulary: Arc<Vocabulary>, options: ReloadOptions) -> Result<LiveLibrary, Report> {
+    pub fn start(
+        paths: Vec<PathBuf>,
+        vocabulary: Arc<Vocabulary>,
+        options: ReloadOptions,
+    ) -> Result<LiveLibrary, Report> {
         let (sources, mut report) = read_sources(&paths);
         let initial_fingerprint = fingerprint(&sources);
         let library = build(&sources, &vocabulary, &mut report);
@@ -65,14 +75,21 @@ impl LiveLibrary {
         for warning in &report.diagnostics {
             log::warn!("{}", warning.message);
         }
-        let shared = Arc::new(Shared { current: ArcSwap::from_pointee(library), generation: AtomicU64::new(1) });
+        let shared = Arc::new(Shared {
+            current: ArcSwap::from_pointee(library),
+            generation: AtomicU64::new(1),
+        });
         let (file_events_tx, file_events) = mpsc::channel();
         let mut watcher = notify::recommended_watcher(move |event| {
             let _ = file_events_tx.send(event);
         })
         .map_err(|e| watch_error(&e))?;
         for path in &paths {
-            let mode = if path.is_dir() { RecursiveMode::Recursive } else { RecursiveMode::NonRecursive };
+            let mode = if path.is_dir() {
+                RecursiveMode::Recursive
+            } else {
+                RecursiveMode::NonRecursive
+            };
             watcher.watch(path, mode).map_err(|e| watch_error(&e))?;
         }
         let (events_tx, events) = mpsc::channel();
@@ -89,10 +106,18 @@ impl LiveLibrary {
             .spawn(move || reloader.run(file_events, options.debounce))
             .map_err(|e| {
                 let mut report = Report::default();
-                report.push(crate::Diagnostic::error("io", format!("cannot start the reload thread: {e}")));
+                report.push(crate::Diagnostic::error(
+                    "io",
+                    format!("cannot start the reload thread: {e}"),
+                ));
                 report
             })?;
-        Ok(LiveLibrary { shared, events: Mutex::new(events), watcher: Some(watcher), thread: Some(thread) })
+        Ok(LiveLibrary {
+            shared,
+            events: Mutex::new(events),
+            watcher: Some(watcher),
+            thread: Some(thread),
+        })
     }
 
     /// The newest library; call once at the start of a cycle and tick every agent with it.
@@ -107,13 +132,19 @@ impl LiveLibrary {
 
     /// Reload events not yet taken.
     pub fn drain_events(&self) -> Vec<ReloadEvent> {
-        let events = self.events.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let events = self
+            .events
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
         events.try_iter().collect()
     }
 
     /// Waits up to `timeout` for the next reload event.
     pub fn next_event(&self, timeout: Duration) -> Option<ReloadEvent> {
-        let events = self.events.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let events = self
+            .events
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
         events.recv_timeout(timeout).ok()
     }
 }
@@ -130,7 +161,10 @@ impl Drop for LiveLibrary {
 
 fn watch_error(error: &notify::Error) -> Report {
     let mut report = Report::default();
-    report.push(crate::Diagnostic::error("io", format!("cannot watch the behavior directories: {error}")));
+    report.push(crate::Diagnostic::error(
+        "io",
+        format!("cannot watch the behavior directories: {error}"),
+    ));
     report
 }
 
@@ -147,8 +181,12 @@ struct Reloader {
 fn is_relevant(event: &notify::Result<notify::Event>) -> bool {
     match event {
         Ok(event) => match event.kind {
-            EventKind::Access(notify::event::AccessKind::Close(notify::event::AccessMode::Write)) => true,
-            EventKind::Access(_) | EventKind::Modify(notify::event::ModifyKind::Metadata(_)) => false,
+            EventKind::Access(notify::event::AccessKind::Close(
+                notify::event::AccessMode::Write,
+            )) => true,
+            EventKind::Access(_) | EventKind::Modify(notify::event::ModifyKind::Metadata(_)) => {
+                false
+            }
             _ => true,
         },
         // Errors (e.g. a queue overflow) may hide changes: reload to be sure.
@@ -202,11 +240,18 @@ impl Reloader {
                 } else {
                     log::info!("behavior files reloaded; generation {generation} is live");
                 }
-                let _ = self.events.send(ReloadEvent::Reloaded { generation, recovered, warnings: report });
+                let _ = self.events.send(ReloadEvent::Reloaded {
+                    generation,
+                    recovered,
+                    warnings: report,
+                });
             }
             _ => {
                 self.broken = true;
-                log::error!("behavior files rejected, keeping the running version:\n{}", report.render_text());
+                log::error!(
+                    "behavior files rejected, keeping the running version:\n{}",
+                    report.render_text()
+                );
                 let _ = self.events.send(ReloadEvent::Rejected { report });
             }
         }

@@ -1,60 +1,14 @@
 //! Running a compiled tree for one agent: node state, blackboard, the host interface and trace.
 
+pub use crate::blackboard::Blackboard;
 use crate::compile::{CExpr, CNode, CompiledTree, Op};
+pub use crate::host::{Args, Host};
 use crate::library::Library;
 use crate::trace::{TickRecord, Trace};
 use crate::tree::{CompareOp, CompositeKind, CountKind, DecoratorKind, TimedKind};
-use crate::value::{Status, Value, ValueType, Vec2};
-use crate::vocabulary::NativeId;
+use crate::value::{Status, Value};
 use std::collections::HashMap;
 use std::sync::Arc;
-
-/// Evaluated arguments of a native call, in the order of the node's declared parameters
-/// (omitted parameters hold their defaults, Ints are widened to Float where declared).
-#[derive(Debug, Clone, Copy)]
-pub struct Args<'a>(pub &'a [Value]);
-
-impl<'a> Args<'a> {
-    pub fn get(&self, index: usize) -> Option<&'a Value> {
-        self.0.get(index)
-    }
-    pub fn float(&self, index: usize) -> f64 {
-        self.0.get(index).map_or(0.0, Value::as_f64)
-    }
-    pub fn int(&self, index: usize) -> i64 {
-        match self.0.get(index) {
-            Some(Value::Int(i)) => *i,
-            other => other.map_or(0, |v| v.as_f64() as i64),
-        }
-    }
-    pub fn bool(&self, index: usize) -> bool {
-        self.0.get(index).is_some_and(Value::as_bool)
-    }
-    pub fn vec2(&self, index: usize) -> Vec2 {
-        self.0.get(index).map_or(Vec2::default(), Value::as_vec2)
-    }
-    pub fn str(&self, index: usize) -> &'a str {
-        self.0.get(index).map_or("", Value::as_str)
-    }
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-}
-
-/// What the agent provides to the trees: its world queries, conditions and actions.
-pub trait Host {
-    /// Simulation time in seconds, used by Timeout, Cooldown and Wait.
-    fn now(&self) -> f64;
-    fn query(&self, id: NativeId, args: Args) -> Value;
-    fn condition(&self, id: NativeId, args: Args) -> bool;
-    /// Called every tick while the action runs.
-    fn action(&mut self, id: NativeId, args: Args) -> Status;
-    /// Called when a running action is abandoned (its branch lost, timed out or was reloaded away).
-    fn halt(&mut self, _id: NativeId, _args: Args) {}
-}
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Phase {
@@ -97,48 +51,6 @@ impl NodeState {
     };
 }
 
-/// Typed per-agent memory that survives library reloads.
-#[derive(Debug, Clone)]
-pub struct Blackboard {
-    keys: HashMap<String, (u32, ValueType)>,
-    values: Vec<Value>,
-}
-
-impl Blackboard {
-    fn new(library: &Library) -> Self {
-        let layout = library.blackboard_layout();
-        let keys = layout.entries.iter().enumerate().map(|(i, (k, ty, _))| (k.clone(), (i as u32, *ty))).collect();
-        Self { keys, values: layout.entries.iter().map(|(_, _, v)| v.clone()).collect() }
-    }
-
-    /// A new layout's blackboard keeping the values of entries whose key and type are unchanged.
-    fn migrate(&self, library: &Library) -> Self {
-        let mut next = Self::new(library);
-        for (key, (slot, ty)) in &next.keys {
-            if let Some((old_slot, old_ty)) = self.keys.get(key) {
-                if old_ty == ty {
-                    next.values[*slot as usize] = self.values[*old_slot as usize].clone();
-                }
-            }
-        }
-        next
-    }
-
-    pub fn get(&self, key: &str) -> Option<&Value> {
-        self.keys.get(key).map(|(slot, _)| &self.values[*slot as usize])
-    }
-
-    /// Writes an entry; refuses unknown keys and values of the wrong type.
-    pub fn set(&mut self, key: &str, value: Value) -> Result<(), String> {
-        let (slot, ty) = self.keys.get(key).ok_or_else(|| format!("unknown blackboard entry `{key}`"))?;
-        if !value.value_type().fits(*ty) {
-            return Err(format!("blackboard entry `{key}` is {ty}, not {}", value.value_type()));
-        }
-        self.values[*slot as usize] = value.coerce(*ty);
-        Ok(())
-    }
-}
-
 /// Why a runner could not be created or could not switch to a new library.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum RunnerError {
@@ -163,7 +75,10 @@ impl TreeRunner {
     pub const DEFAULT_TRACE_CAPACITY: usize = 256;
 
     pub fn new(library: &Arc<Library>, root: &str) -> Result<Self, RunnerError> {
-        let tree = library.tree(root).ok_or_else(|| RunnerError::UnknownTree(root.to_string()))?.clone();
+        let tree = library
+            .tree(root)
+            .ok_or_else(|| RunnerError::UnknownTree(root.to_string()))?
+            .clone();
         Ok(Self {
             root: root.to_string(),
             library: library.clone(),
@@ -209,11 +124,28 @@ impl TreeRunner {
         if !Arc::ptr_eq(&self.library, library) {
             self.adopt(host, library);
         }
-        let Self { tree, states, blackboard, trace, scratch, ticks, library, .. } = self;
+        let Self {
+            tree,
+            states,
+            blackboard,
+            trace,
+            scratch,
+            ticks,
+            library,
+            ..
+        } = self;
         *ticks += 1;
         let now = host.now();
         let record = trace.begin(*ticks, now, library.generation(), tree);
-        let mut ticker = Ticker { nodes: &tree.nodes, states, blackboard: &mut blackboard.values, scratch, record, host, now };
+        let mut ticker = Ticker {
+            nodes: &tree.nodes,
+            states,
+            blackboard: &mut blackboard.values,
+            scratch,
+            record,
+            host,
+            now,
+        };
         let status = ticker.tick(0);
         if let Some(record) = ticker.record {
             record.status = status;
@@ -226,7 +158,11 @@ impl TreeRunner {
     fn adopt<H: Host>(&mut self, host: &mut H, library: &Arc<Library>) {
         let Some(new_tree) = library.tree(&self.root).cloned() else {
             if !self.missing_root_reported {
-                log::error!("tree `{}` is missing from library generation {}; keeping the running version", self.root, library.generation());
+                log::error!(
+                    "tree `{}` is missing from library generation {}; keeping the running version",
+                    self.root,
+                    library.generation()
+                );
                 self.missing_root_reported = true;
             }
             return;
@@ -245,14 +181,18 @@ impl TreeRunner {
             let node = &new_tree.nodes[index];
             let size = node.end as usize - index;
             let candidate = by_hash.get(&node.hash).and_then(|candidates| {
-                candidates.iter().copied().find(|&o| !old_used[o as usize] && old.nodes[o as usize].end as usize - o as usize == size)
+                candidates.iter().copied().find(|&o| {
+                    !old_used[o as usize] && old.nodes[o as usize].end as usize - o as usize == size
+                })
             });
             match candidate {
                 Some(o) => {
                     let o = o as usize;
                     states[index..index + size].copy_from_slice(&self.states[o..o + size]);
                     old_used[o..o + size].iter_mut().for_each(|u| *u = true);
-                    carried[index..index + size].iter_mut().for_each(|c| *c = true);
+                    carried[index..index + size]
+                        .iter_mut()
+                        .for_each(|c| *c = true);
                     index += size;
                 }
                 None => index += 1,
@@ -269,7 +209,10 @@ impl TreeRunner {
             now: f64::NAN,
         };
         for (o, used) in old_used.iter().enumerate() {
-            if !used && ticker.states[o].phase == Phase::Running && matches!(ticker.nodes[o].op, Op::Action(..)) {
+            if !used
+                && ticker.states[o].phase == Phase::Running
+                && matches!(ticker.nodes[o].op, Op::Action(..))
+            {
                 ticker.halt_action(o as u32);
             }
         }
@@ -371,9 +314,16 @@ impl<H: Host> Ticker<'_, H> {
                     status
                 }
             }
-            Op::Utility { hysteresis, choices } => {
+            Op::Utility {
+                hysteresis,
+                choices,
+            } => {
                 let state = self.states[index as usize];
-                let current = if state.phase == Phase::Running { state.choice } else { NO_CHOICE };
+                let current = if state.phase == Phase::Running {
+                    state.choice
+                } else {
+                    NO_CHOICE
+                };
                 let mut best = (NO_CHOICE, f64::NEG_INFINITY);
                 for (k, choice) in choices.iter().enumerate() {
                     let (mut total, mut weights) = (0.0, 0.0);
@@ -382,7 +332,8 @@ impl<H: Host> Ticker<'_, H> {
                         total += consideration.weight * consideration.curve.score(input);
                         weights += consideration.weight;
                     }
-                    let mut score = choice.weight * if weights > 0.0 { total / weights } else { 1.0 };
+                    let mut score =
+                        choice.weight * if weights > 0.0 { total / weights } else { 1.0 };
                     if k as u32 == current {
                         score += hysteresis;
                     }
@@ -393,7 +344,11 @@ impl<H: Host> Ticker<'_, H> {
                 let child = node.children[best.0 as usize];
                 self.halt_others(node, Some(child));
                 let status = self.tick(child);
-                self.states[index as usize].choice = if status == Status::Running { best.0 } else { NO_CHOICE };
+                self.states[index as usize].choice = if status == Status::Running {
+                    best.0
+                } else {
+                    NO_CHOICE
+                };
                 status
             }
             Op::Condition(id, args) => {
@@ -442,10 +397,24 @@ impl<H: Host> Ticker<'_, H> {
 
     fn composite(&mut self, index: u32, node: &CNode, kind: CompositeKind) -> Status {
         let state = self.states[index as usize];
-        let reactive = matches!(kind, CompositeKind::ReactiveSequence | CompositeKind::ReactiveFallback);
-        let sequence = matches!(kind, CompositeKind::Sequence | CompositeKind::ReactiveSequence);
-        let start = if reactive || state.phase != Phase::Running { 0 } else { state.cursor as usize };
-        let (done, other) = if sequence { (Status::Failure, Status::Success) } else { (Status::Success, Status::Failure) };
+        let reactive = matches!(
+            kind,
+            CompositeKind::ReactiveSequence | CompositeKind::ReactiveFallback
+        );
+        let sequence = matches!(
+            kind,
+            CompositeKind::Sequence | CompositeKind::ReactiveSequence
+        );
+        let start = if reactive || state.phase != Phase::Running {
+            0
+        } else {
+            state.cursor as usize
+        };
+        let (done, other) = if sequence {
+            (Status::Failure, Status::Success)
+        } else {
+            (Status::Success, Status::Failure)
+        };
         let mut result = (other, None);
         for k in start..node.children.len() {
             let child = node.children[k];
@@ -549,11 +518,15 @@ impl<H: Host> Ticker<'_, H> {
         let nodes = self.nodes;
         let node = &nodes[index as usize];
         self.halt_others(node, None);
-        if matches!(node.op, Op::Action(..)) && self.states[index as usize].phase == Phase::Running {
+        if matches!(node.op, Op::Action(..)) && self.states[index as usize].phase == Phase::Running
+        {
             self.halt_action(index);
         }
         let state = &mut self.states[index as usize];
-        *state = NodeState { last_success: state.last_success, ..NodeState::FRESH };
+        *state = NodeState {
+            last_success: state.last_success,
+            ..NodeState::FRESH
+        };
     }
 
     fn halt_action(&mut self, index: u32) {

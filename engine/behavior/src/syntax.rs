@@ -39,7 +39,10 @@ pub enum Body {
 #[derive(Debug, Clone)]
 pub enum NodeKind {
     /// `Name(...)` or `(...)`.
-    Struct { name: Option<Ident>, body: Body },
+    Struct {
+        name: Option<Ident>,
+        body: Body,
+    },
     /// A bare identifier such as `None` or an enum variant.
     Unit(Ident),
     List(Vec<Node>),
@@ -90,7 +93,12 @@ impl fmt::Display for SyntaxError {
 const MAX_DEPTH: usize = 128;
 
 pub fn parse(text: &str) -> Result<Node, SyntaxError> {
-    let mut reader = Reader { text, bytes: text.as_bytes(), pos: 0, depth: 0 };
+    let mut reader = Reader {
+        text,
+        bytes: text.as_bytes(),
+        pos: 0,
+        depth: 0,
+    };
     reader.skip_trivia()?;
     reader.skip_attributes()?;
     let node = reader.value()?;
@@ -110,7 +118,10 @@ struct Reader<'a> {
 
 impl Reader<'_> {
     fn error_here(&self, message: &str, hint: Option<&str>) -> SyntaxError {
-        let len = self.text[self.pos..].chars().next().map_or(0, char::len_utf8);
+        let len = self.text[self.pos..]
+            .chars()
+            .next()
+            .map_or(0, char::len_utf8);
         SyntaxError {
             span: Span::new(self.pos, self.pos + len),
             message: message.to_string(),
@@ -131,7 +142,9 @@ impl Reader<'_> {
                         self.pos += 1;
                     }
                 }
-                Some(b'/') if self.bytes.get(self.pos + 1) == Some(&b'*') => self.block_comment()?,
+                Some(b'/') if self.bytes.get(self.pos + 1) == Some(&b'*') => {
+                    self.block_comment()?
+                }
                 _ => return Ok(()),
             }
         }
@@ -202,7 +215,10 @@ impl Reader<'_> {
         }
         let start = self.pos;
         let kind = match self.peek() {
-            Some(b'(') => NodeKind::Struct { name: None, body: self.group()? },
+            Some(b'(') => NodeKind::Struct {
+                name: None,
+                body: self.group()?,
+            },
             Some(b'[') => NodeKind::List(self.list()?),
             Some(b'{') => NodeKind::Map(self.map()?),
             Some(b'"') => NodeKind::Str(self.string()?),
@@ -215,9 +231,10 @@ impl Reader<'_> {
                     "true" => NodeKind::Bool(true),
                     "false" => NodeKind::Bool(false),
                     "inf" => NodeKind::Float(f64::INFINITY),
-                    _ if self.peek() == Some(b'(') => {
-                        NodeKind::Struct { name: Some(ident), body: self.group()? }
-                    }
+                    _ if self.peek() == Some(b'(') => NodeKind::Struct {
+                        name: Some(ident),
+                        body: self.group()?,
+                    },
                     _ => {
                         self.pos = after_name;
                         NodeKind::Unit(ident)
@@ -227,26 +244,38 @@ impl Reader<'_> {
             _ => return Err(self.unexpected("a value")),
         };
         self.depth -= 1;
-        Ok(Node { kind, span: Span::new(start, self.pos) })
+        Ok(Node {
+            kind,
+            span: Span::new(start, self.pos),
+        })
     }
 
     fn ident(&mut self) -> Result<Ident, SyntaxError> {
         self.skip_trivia()?;
         let start = self.pos;
-        while self.peek().is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_') {
+        while self
+            .peek()
+            .is_some_and(|b| b.is_ascii_alphanumeric() || b == b'_')
+        {
             self.pos += 1;
         }
         if start == self.pos {
             return Err(self.unexpected("a name"));
         }
-        Ok(Ident { name: self.text[start..self.pos].to_string(), span: Span::new(start, self.pos) })
+        Ok(Ident {
+            name: self.text[start..self.pos].to_string(),
+            span: Span::new(start, self.pos),
+        })
     }
 
     /// Whether the next tokens are `name:` (a field) rather than a value.
     fn at_field(&mut self) -> Result<bool, SyntaxError> {
         self.skip_trivia()?;
         let saved = self.pos;
-        let is_field = if self.peek().is_some_and(|b| b.is_ascii_alphabetic() || b == b'_') {
+        let is_field = if self
+            .peek()
+            .is_some_and(|b| b.is_ascii_alphabetic() || b == b'_')
+        {
             self.ident()?;
             self.skip_trivia()?;
             self.peek() == Some(b':')
@@ -265,7 +294,10 @@ impl Reader<'_> {
             self.separated(b')', |reader| {
                 let name = reader.ident()?;
                 reader.expect(b':', "`:` after a field name")?;
-                fields.push(Field { name, value: reader.value()? });
+                fields.push(Field {
+                    name,
+                    value: reader.value()?,
+                });
                 Ok(())
             })?;
             Ok(Body::Fields(fields))
@@ -365,7 +397,9 @@ impl Reader<'_> {
             b'u' if self.peek() == Some(b'{') => {
                 let close = self.text[self.pos..].find('}');
                 let code = close
-                    .and_then(|end| u32::from_str_radix(&self.text[self.pos + 1..self.pos + end], 16).ok())
+                    .and_then(|end| {
+                        u32::from_str_radix(&self.text[self.pos + 1..self.pos + end], 16).ok()
+                    })
                     .and_then(char::from_u32);
                 match (close, code) {
                     (Some(end), Some(ch)) => {
@@ -377,7 +411,10 @@ impl Reader<'_> {
             }
             _ => {
                 self.pos -= 1;
-                return Err(self.error_here("unknown escape sequence", Some("use `\\\\` for a backslash")));
+                return Err(self.error_here(
+                    "unknown escape sequence",
+                    Some("use `\\\\` for a backslash"),
+                ));
             }
         })
     }
@@ -390,7 +427,11 @@ impl Reader<'_> {
         if self.bytes[self.pos..].starts_with(b"inf") {
             self.pos += 3;
             let negative = self.bytes[start] == b'-';
-            return Ok(NodeKind::Float(if negative { f64::NEG_INFINITY } else { f64::INFINITY }));
+            return Ok(NodeKind::Float(if negative {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            }));
         }
         let mut is_float = false;
         while let Some(b) = self.peek() {
@@ -402,13 +443,26 @@ impl Reader<'_> {
             }
             self.pos += 1;
         }
-        let literal: String = self.text[start..self.pos].chars().filter(|&c| c != '_').collect();
+        let literal: String = self.text[start..self.pos]
+            .chars()
+            .filter(|&c| c != '_')
+            .collect();
         let span = Span::new(start, self.pos);
-        let bad = |what: &str| SyntaxError { span, message: format!("invalid {what} `{literal}`"), hint: None };
+        let bad = |what: &str| SyntaxError {
+            span,
+            message: format!("invalid {what} `{literal}`"),
+            hint: None,
+        };
         if is_float {
-            literal.parse().map(NodeKind::Float).map_err(|_| bad("number"))
+            literal
+                .parse()
+                .map(NodeKind::Float)
+                .map_err(|_| bad("number"))
         } else {
-            literal.parse().map(NodeKind::Int).map_err(|_| bad("integer"))
+            literal
+                .parse()
+                .map(NodeKind::Int)
+                .map_err(|_| bad("integer"))
         }
     }
 }
@@ -421,19 +475,31 @@ mod tests {
     fn spans_point_at_values() {
         let text = "Action(name: \"WalkTo\", speed: 0.5, to: (1, -2.5e0))";
         let node = parse(text).unwrap();
-        let NodeKind::Struct { name: Some(name), body: Body::Fields(fields) } = node.kind else {
+        let NodeKind::Struct {
+            name: Some(name),
+            body: Body::Fields(fields),
+        } = node.kind
+        else {
             panic!("expected a struct");
         };
         assert_eq!(name.name, "Action");
-        assert_eq!(&text[fields[0].value.span.start..fields[0].value.span.end], "\"WalkTo\"");
+        assert_eq!(
+            &text[fields[0].value.span.start..fields[0].value.span.end],
+            "\"WalkTo\""
+        );
         assert!(matches!(fields[1].value.kind, NodeKind::Float(x) if x == 0.5));
-        assert_eq!(&text[fields[2].value.span.start..fields[2].value.span.end], "(1, -2.5e0)");
+        assert_eq!(
+            &text[fields[2].value.span.start..fields[2].value.span.end],
+            "(1, -2.5e0)"
+        );
     }
 
     #[test]
     fn comments_maps_lists_and_trailing_commas() {
         let text = "/* a /* nested */ comment */ { \"a\": [1, 2,], // line\n \"b\": None, }";
-        let NodeKind::Map(entries) = parse(text).unwrap().kind else { panic!("expected a map") };
+        let NodeKind::Map(entries) = parse(text).unwrap().kind else {
+            panic!("expected a map")
+        };
         assert_eq!(entries.len(), 2);
         assert!(matches!(&entries[1].1.kind, NodeKind::Unit(id) if id.name == "None"));
     }
@@ -445,14 +511,29 @@ mod tests {
         assert_eq!(error.hint.as_deref(), Some("is a comma missing?"));
         let error = parse("Sequence([").unwrap_err();
         assert!(error.message.contains("end of file"), "{}", error.message);
-        assert!(parse("\"abc").unwrap_err().message.contains("unterminated string"));
+        assert!(parse("\"abc")
+            .unwrap_err()
+            .message
+            .contains("unterminated string"));
     }
 
     #[test]
     fn hostile_input_does_not_panic() {
         let deep = "[".repeat(10_000);
         assert!(parse(&deep).is_err());
-        for text in ["", "(", "-", "1e", "\"\\u{zz}\"", "a(b:", "/*", "#!", "é", "\"\\", "{1:}"] {
+        for text in [
+            "",
+            "(",
+            "-",
+            "1e",
+            "\"\\u{zz}\"",
+            "a(b:",
+            "/*",
+            "#!",
+            "é",
+            "\"\\",
+            "{1:}",
+        ] {
             assert!(parse(text).is_err(), "{text:?} should be rejected");
         }
     }

@@ -8,8 +8,20 @@ use std::collections::HashMap;
 
 /// Play modes as seen from the team (own/theirs rather than left/right).
 pub const PLAY_MODES: &[&str] = &[
-    "BeforeKickOff", "KickOffOwn", "KickOffTheirs", "PlayOn", "ThrowInOwn", "ThrowInTheirs", "CornerKickOwn",
-    "CornerKickTheirs", "GoalKickOwn", "GoalKickTheirs", "FreeKickOwn", "FreeKickTheirs", "GoalOwn", "GoalTheirs",
+    "BeforeKickOff",
+    "KickOffOwn",
+    "KickOffTheirs",
+    "PlayOn",
+    "ThrowInOwn",
+    "ThrowInTheirs",
+    "CornerKickOwn",
+    "CornerKickTheirs",
+    "GoalKickOwn",
+    "GoalKickTheirs",
+    "FreeKickOwn",
+    "FreeKickTheirs",
+    "GoalOwn",
+    "GoalTheirs",
     "GameOver",
 ];
 
@@ -18,25 +30,105 @@ impl Vocabulary {
     pub fn reference() -> Vocabulary {
         use ValueType::*;
         Vocabulary::new()
-            .with(NodeSpec::condition("PlayModeIs", "True when the current play mode is `mode`.")
-                .param(ParamSpec::new("mode", String).choices(PLAY_MODES).doc("team-relative play mode")))
-            .with(NodeSpec::condition("CanBeam", "True when the server accepts a beam (before kick-off, after a goal)."))
-            .with(NodeSpec::condition("IsFallen", "True when the robot is lying on the ground."))
-            .with(NodeSpec::action("BeamToFormation", "Beams to this player's kick-off formation position; succeeds when placed."))
-            .with(NodeSpec::action("Stand", "Holds the standing pose (getting up first if fallen); succeeds when stable."))
-            .with(NodeSpec::action("LookAround", "Pans the head to scan the field; runs until halted.")
-                .param(ParamSpec::new("amplitude", Float).unit("rad").range(0.0, 2.0).default(Value::Float(1.2)).doc("pan half-range"))
-                .param(ParamSpec::new("period", Float).unit("s").range(0.2, 20.0).default(Value::Float(4.0)).doc("time for a full sweep")))
-            .with(NodeSpec::action("WalkTo", "Walks to a field point; succeeds within `tolerance`.")
-                .param(ParamSpec::new("target", Vec2).unit("m").doc("destination, own frame"))
-                .param(ParamSpec::new("speed", Float).unit("m/s").range(0.0, 2.0).default(Value::Float(0.6)).doc("walking speed"))
-                .param(ParamSpec::new("tolerance", Float).unit("m").range(0.05, 5.0).default(Value::Float(0.3)).doc("arrival radius")))
-            .with(NodeSpec::query("ball_position", Vec2, "Estimated ball position (m, own frame)."))
-            .with(NodeSpec::query("ball_distance", Float, "Distance from the robot to the ball (m)."))
-            .with(NodeSpec::query("my_position", Vec2, "Estimated robot position (m, own frame)."))
-            .with(NodeSpec::query("formation_position", Vec2, "This player's formation position for the situation and ball (m)."))
-            .with(NodeSpec::query("play_time", Float, "Seconds since kick-off of the half."))
-            .with(NodeSpec::query("am_closest_to_ball", Bool, "True when no teammate is closer to the ball."))
+            .with(
+                NodeSpec::condition("PlayModeIs", "True when the current play mode is `mode`.")
+                    .param(
+                        ParamSpec::new("mode", String)
+                            .choices(PLAY_MODES)
+                            .doc("team-relative play mode"),
+                    ),
+            )
+            .with(NodeSpec::condition(
+                "CanBeam",
+                "True when the server accepts a beam (before kick-off, after a goal).",
+            ))
+            .with(NodeSpec::condition(
+                "IsFallen",
+                "True when the robot is lying on the ground.",
+            ))
+            .with(NodeSpec::action(
+                "BeamToFormation",
+                "Beams to this player's kick-off formation position; succeeds when placed.",
+            ))
+            .with(NodeSpec::action(
+                "Stand",
+                "Holds the standing pose (getting up first if fallen); succeeds when stable.",
+            ))
+            .with(
+                NodeSpec::action(
+                    "LookAround",
+                    "Pans the head to scan the field; runs until halted.",
+                )
+                .param(
+                    ParamSpec::new("amplitude", Float)
+                        .unit("rad")
+                        .range(0.0, 2.0)
+                        .default(Value::Float(1.2))
+                        .doc("pan half-range"),
+                )
+                .param(
+                    ParamSpec::new("period", Float)
+                        .unit("s")
+                        .range(0.2, 20.0)
+                        .default(Value::Float(4.0))
+                        .doc("time for a full sweep"),
+                ),
+            )
+            .with(
+                NodeSpec::action(
+                    "WalkTo",
+                    "Walks to a field point; succeeds within `tolerance`.",
+                )
+                .param(
+                    ParamSpec::new("target", Vec2)
+                        .unit("m")
+                        .doc("destination, own frame"),
+                )
+                .param(
+                    ParamSpec::new("speed", Float)
+                        .unit("m/s")
+                        .range(0.0, 2.0)
+                        .default(Value::Float(0.6))
+                        .doc("walking speed"),
+                )
+                .param(
+                    ParamSpec::new("tolerance", Float)
+                        .unit("m")
+                        .range(0.05, 5.0)
+                        .default(Value::Float(0.3))
+                        .doc("arrival radius"),
+                ),
+            )
+            .with(NodeSpec::query(
+                "ball_position",
+                Vec2,
+                "Estimated ball position (m, own frame).",
+            ))
+            .with(NodeSpec::query(
+                "ball_distance",
+                Float,
+                "Distance from the robot to the ball (m).",
+            ))
+            .with(NodeSpec::query(
+                "my_position",
+                Vec2,
+                "Estimated robot position (m, own frame).",
+            ))
+            .with(NodeSpec::query(
+                "formation_position",
+                Vec2,
+                "This player's formation position for the situation and ball (m).",
+            ))
+            .with(NodeSpec::query(
+                "play_time",
+                Float,
+                "Seconds since kick-off of the half.",
+            ))
+            .with(NodeSpec::query(
+                "am_closest_to_ball",
+                Bool,
+                "True when no teammate is closer to the ball.",
+            ))
     }
 }
 
@@ -59,13 +151,23 @@ pub struct ScriptedHost {
 impl ScriptedHost {
     pub fn new(vocabulary: &Vocabulary) -> Self {
         let names = vocabulary.nodes().iter().map(|n| n.name.clone()).collect();
-        let mut host = Self { names, ..Self::default() };
-        host.queries.insert("ball_position".into(), Value::Vec2(Vec2::new(0.0, 0.0)));
-        host.queries.insert("ball_distance".into(), Value::Float(5.0));
-        host.queries.insert("my_position".into(), Value::Vec2(Vec2::new(-10.0, 0.0)));
-        host.queries.insert("formation_position".into(), Value::Vec2(Vec2::new(-8.0, 2.0)));
+        let mut host = Self {
+            names,
+            ..Self::default()
+        };
+        host.queries
+            .insert("ball_position".into(), Value::Vec2(Vec2::new(0.0, 0.0)));
+        host.queries
+            .insert("ball_distance".into(), Value::Float(5.0));
+        host.queries
+            .insert("my_position".into(), Value::Vec2(Vec2::new(-10.0, 0.0)));
+        host.queries.insert(
+            "formation_position".into(),
+            Value::Vec2(Vec2::new(-8.0, 2.0)),
+        );
         host.queries.insert("play_time".into(), Value::Float(0.0));
-        host.queries.insert("am_closest_to_ball".into(), Value::Bool(false));
+        host.queries
+            .insert("am_closest_to_ball".into(), Value::Bool(false));
         host
     }
 
@@ -85,13 +187,20 @@ impl Host for ScriptedHost {
     }
 
     fn query(&self, id: NativeId, _args: Args) -> Value {
-        self.queries.get(self.name(id)).cloned().unwrap_or(Value::Bool(false))
+        self.queries
+            .get(self.name(id))
+            .cloned()
+            .unwrap_or(Value::Bool(false))
     }
 
     fn condition(&self, id: NativeId, args: Args) -> bool {
         let name = self.name(id);
         if name == "PlayModeIs" {
-            let mode = self.queries.get("play_mode").map(|v| v.as_str().to_string()).unwrap_or_default();
+            let mode = self
+                .queries
+                .get("play_mode")
+                .map(|v| v.as_str().to_string())
+                .unwrap_or_default();
             return mode == args.str(0);
         }
         self.conditions.get(name).copied().unwrap_or(false)

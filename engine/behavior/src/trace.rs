@@ -43,7 +43,9 @@ impl TickRecord {
 
     /// Native actions and conditions ticked this cycle, e.g. `("Action WalkTo", Running)`.
     pub fn leaves(&self) -> Vec<(&str, Status)> {
-        self.visited().filter(|(label, _)| label.starts_with("Action ") || label.starts_with("Condition ")).collect()
+        self.visited()
+            .filter(|(label, _)| label.starts_with("Action ") || label.starts_with("Condition "))
+            .collect()
     }
 
     /// The status of the first ticked node with this label.
@@ -53,11 +55,24 @@ impl TickRecord {
 
     /// An indented, one-node-per-line rendering for the evaluation log.
     pub fn render(&self) -> String {
-        let mut out = format!("tick {} t={:.3}s gen {} {} → {}\n", self.tick, self.time, self.generation, self.tree_name(), self.status);
+        let mut out = format!(
+            "tick {} t={:.3}s gen {} {} → {}\n",
+            self.tick,
+            self.time,
+            self.generation,
+            self.tree_name(),
+            self.status
+        );
         if let Some(tree) = &self.tree {
             for entry in &self.entries {
                 let depth = tree.nodes[entry.node as usize].depth as usize;
-                let _ = writeln!(out, "{}{} → {}", "  ".repeat(depth + 1), tree.label(entry.node), entry.status);
+                let _ = writeln!(
+                    out,
+                    "{}{} → {}",
+                    "  ".repeat(depth + 1),
+                    tree.label(entry.node),
+                    entry.status
+                );
             }
         }
         out
@@ -74,7 +89,11 @@ pub struct Trace {
 
 impl Trace {
     pub fn new(capacity: usize) -> Self {
-        Self { records: Vec::with_capacity(capacity), capacity, next: 0 }
+        Self {
+            records: Vec::with_capacity(capacity),
+            capacity,
+            next: 0,
+        }
     }
 
     pub fn capacity(&self) -> usize {
@@ -104,12 +123,25 @@ impl Trace {
     }
 
     /// Starts a record for a new tick and returns its entry buffer.
-    pub(crate) fn begin(&mut self, tick: u64, time: f64, generation: u64, tree: &Arc<CompiledTree>) -> Option<&mut TickRecord> {
+    pub(crate) fn begin(
+        &mut self,
+        tick: u64,
+        time: f64,
+        generation: u64,
+        tree: &Arc<CompiledTree>,
+    ) -> Option<&mut TickRecord> {
         if self.capacity == 0 {
             return None;
         }
         if self.records.len() < self.capacity {
-            self.records.push(TickRecord { tick, time, generation, status: Status::Running, tree: None, entries: Vec::with_capacity(64) });
+            self.records.push(TickRecord {
+                tick,
+                time,
+                generation,
+                status: Status::Running,
+                tree: None,
+                entries: Vec::with_capacity(64),
+            });
             self.next = self.records.len() % self.capacity;
             let last = self.records.len() - 1;
             let record = &mut self.records[last];
@@ -131,7 +163,10 @@ impl Trace {
 
 impl TickRecord {
     pub(crate) fn enter(&mut self, node: u32) -> usize {
-        self.entries.push(TraceEntry { node, status: Status::Running });
+        self.entries.push(TraceEntry {
+            node,
+            status: Status::Running,
+        });
         self.entries.len() - 1
     }
 

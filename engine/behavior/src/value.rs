@@ -19,7 +19,10 @@ impl Vec2 {
         ((self.x - other.x).powi(2) + (self.y - other.y).powi(2)).sqrt()
     }
     pub fn lerp(self, other: Vec2, t: f64) -> Vec2 {
-        Vec2::new(self.x + (other.x - self.x) * t, self.y + (other.y - self.y) * t)
+        Vec2::new(
+            self.x + (other.x - self.x) * t,
+            self.y + (other.y - self.y) * t,
+        )
     }
 }
 

@@ -89,13 +89,26 @@ pub struct NodeSpec {
 
 impl NodeSpec {
     pub fn condition(name: &str, doc: &str) -> Self {
-        Self { name: name.into(), kind: NativeKind::Condition, params: Vec::new(), returns: None, doc: doc.into() }
+        Self {
+            name: name.into(),
+            kind: NativeKind::Condition,
+            params: Vec::new(),
+            returns: None,
+            doc: doc.into(),
+        }
     }
     pub fn action(name: &str, doc: &str) -> Self {
-        Self { kind: NativeKind::Action, ..Self::condition(name, doc) }
+        Self {
+            kind: NativeKind::Action,
+            ..Self::condition(name, doc)
+        }
     }
     pub fn query(name: &str, returns: ValueType, doc: &str) -> Self {
-        Self { kind: NativeKind::Query, returns: Some(returns), ..Self::condition(name, doc) }
+        Self {
+            kind: NativeKind::Query,
+            returns: Some(returns),
+            ..Self::condition(name, doc)
+        }
     }
     pub fn param(mut self, param: ParamSpec) -> Self {
         self.params.push(param);
@@ -127,7 +140,12 @@ impl Vocabulary {
     pub fn add(&mut self, spec: NodeSpec) -> NativeId {
         let id = NativeId(self.nodes.len() as u32);
         let key = (spec.kind, spec.name.clone());
-        assert!(!self.by_name.contains_key(&key), "native {} `{}` registered twice", spec.kind.name(), spec.name);
+        assert!(
+            !self.by_name.contains_key(&key),
+            "native {} `{}` registered twice",
+            spec.kind.name(),
+            spec.name
+        );
         self.by_name.insert(key, id);
         self.nodes.push(spec);
         id
@@ -151,12 +169,17 @@ impl Vocabulary {
     }
 
     pub fn names(&self, kind: NativeKind) -> impl Iterator<Item = &str> {
-        self.nodes.iter().filter(move |n| n.kind == kind).map(|n| n.name.as_str())
+        self.nodes
+            .iter()
+            .filter(move |n| n.kind == kind)
+            .map(|n| n.name.as_str())
     }
 
     /// The node reference as Markdown: the tree language, then every native node.
     pub fn to_markdown(&self) -> String {
-        let mut out = String::from("# Behavior vocabulary\n\n## Tree language\n\n| node | doc |\n| --- | --- |\n");
+        let mut out = String::from(
+            "# Behavior vocabulary\n\n## Tree language\n\n| node | doc |\n| --- | --- |\n",
+        );
         for (syntax, doc) in crate::tree::LANGUAGE {
             let _ = writeln!(out, "| `{syntax}` | {doc} |");
         }
@@ -167,7 +190,10 @@ impl Vocabulary {
         ] {
             let _ = write!(out, "\n## {title}\n");
             for node in self.nodes.iter().filter(|n| n.kind == kind) {
-                let returns = node.returns.map(|ty| format!(" → `{ty}`")).unwrap_or_default();
+                let returns = node
+                    .returns
+                    .map(|ty| format!(" → `{ty}`"))
+                    .unwrap_or_default();
                 let _ = write!(out, "\n### `{}`{returns}\n\n{}\n", node.name, node.doc);
                 if node.params.is_empty() {
                     continue;
@@ -179,8 +205,16 @@ impl Vocabulary {
                         (None, false) => p.choices.join(", "),
                         (None, true) => String::new(),
                     };
-                    let default = p.default.as_ref().map(|v| format!("`{v}`")).unwrap_or_else(|| "required".into());
-                    let _ = writeln!(out, "| `{}` | {} | {} | {range} | {default} | {} |", p.name, p.ty, p.unit, p.doc);
+                    let default = p
+                        .default
+                        .as_ref()
+                        .map(|v| format!("`{v}`"))
+                        .unwrap_or_else(|| "required".into());
+                    let _ = writeln!(
+                        out,
+                        "| `{}` | {} | {} | {range} | {default} | {} |",
+                        p.name, p.ty, p.unit, p.doc
+                    );
                 }
             }
         }

@@ -21,7 +21,12 @@ fn cases() -> Vec<PathBuf> {
 }
 
 fn expected_path(case: &Path) -> PathBuf {
-    let name = case.file_name().unwrap().to_string_lossy().trim_end_matches(".ron").to_string();
+    let name = case
+        .file_name()
+        .unwrap()
+        .to_string_lossy()
+        .trim_end_matches(".ron")
+        .to_string();
     case.with_file_name(format!("{name}.expected"))
 }
 
@@ -33,7 +38,11 @@ fn corpus_reports_match_snapshots() {
     let mut mismatches = Vec::new();
     for case in cases() {
         let report = validate_paths(&[case.canonicalize().unwrap()], &vocabulary);
-        assert!(report.error_count() + report.warning_count() > 0, "{} produced no diagnostics", case.display());
+        assert!(
+            report.error_count() + report.warning_count() > 0,
+            "{} produced no diagnostics",
+            case.display()
+        );
         let rendered = report.render_text_relative(&root);
         let expected_file = expected_path(&case);
         if update {
@@ -45,7 +54,11 @@ fn corpus_reports_match_snapshots() {
             mismatches.push(format!("--- {}\n{rendered}", expected_file.display()));
         }
     }
-    assert!(mismatches.is_empty(), "snapshots differ:\n{}", mismatches.join("\n"));
+    assert!(
+        mismatches.is_empty(),
+        "snapshots differ:\n{}",
+        mismatches.join("\n")
+    );
 }
 
 /// Every class of error the validator knows has at least one case in the corpus.
@@ -59,17 +72,49 @@ fn corpus_covers_every_error_class() {
         }
     }
     let classes = [
-        "syntax", "unknown-node-kind", "unknown-node", "unknown-parameter", "missing-parameter", "type-mismatch",
-        "out-of-range", "invalid-choice", "unknown-query", "unknown-blackboard-entry", "unknown-tree-parameter",
-        "missing-subtree", "subtree-cycle", "duplicate-tree", "bad-threshold", "empty-composite", "unknown-field",
-        "missing-field", "unknown-curve", "conflicting-blackboard-entry", "unknown-file-kind", "off-field",
-        "missing-player", "field-not-covered", "degenerate-triangle", "duplicate-sample", "unknown-formation",
-        "missing-situation", "duplicate-definition", "unknown-field-kind", "io", "invalid-value",
+        "syntax",
+        "unknown-node-kind",
+        "unknown-node",
+        "unknown-parameter",
+        "missing-parameter",
+        "type-mismatch",
+        "out-of-range",
+        "invalid-choice",
+        "unknown-query",
+        "unknown-blackboard-entry",
+        "unknown-tree-parameter",
+        "missing-subtree",
+        "subtree-cycle",
+        "duplicate-tree",
+        "bad-threshold",
+        "empty-composite",
+        "unknown-field",
+        "missing-field",
+        "unknown-curve",
+        "conflicting-blackboard-entry",
+        "unknown-file-kind",
+        "off-field",
+        "missing-player",
+        "field-not-covered",
+        "degenerate-triangle",
+        "duplicate-sample",
+        "unknown-formation",
+        "missing-situation",
+        "duplicate-definition",
+        "unknown-field-kind",
+        "io",
+        "invalid-value",
     ];
     for class in classes {
-        assert!(seen.contains(&(class, Severity::Error)), "no corpus case produces `{class}`; seen: {seen:?}");
+        assert!(
+            seen.contains(&(class, Severity::Error)),
+            "no corpus case produces `{class}`; seen: {seen:?}"
+        );
     }
-    assert!(seen.contains(&("unused-file", Severity::Warning)), "no corpus case warns about unused files");
+    assert!(
+        seen.contains(&("unused-file", Severity::Warning)),
+        "no corpus case warns about unused files"
+    );
 }
 
 #[test]

@@ -3,7 +3,9 @@
 //! once, the fix runs; editors' save patterns all end in the right library.
 
 use libero_behavior::testing::ScriptedHost;
-use libero_behavior::{LiveLibrary, ReloadEvent, ReloadOptions, Status, TreeRunner, Value, Vocabulary};
+use libero_behavior::{
+    LiveLibrary, ReloadEvent, ReloadOptions, Status, TreeRunner, Value, Vocabulary,
+};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -26,8 +28,12 @@ fn live_copy() -> (tempfile::TempDir, Vec<PathBuf>, LiveLibrary) {
     copy_dir(&repo.join("behaviors"), &dir.path().join("behaviors"));
     copy_dir(&repo.join("formations"), &dir.path().join("formations"));
     let paths = vec![dir.path().join("behaviors"), dir.path().join("formations")];
-    let live = LiveLibrary::start(paths.clone(), Arc::new(Vocabulary::reference()), ReloadOptions { debounce: DEBOUNCE })
-        .unwrap_or_else(|report| panic!("{}", report.render_text()));
+    let live = LiveLibrary::start(
+        paths.clone(),
+        Arc::new(Vocabulary::reference()),
+        ReloadOptions { debounce: DEBOUNCE },
+    )
+    .unwrap_or_else(|report| panic!("{}", report.render_text()));
     (dir, paths, live)
 }
 
@@ -40,9 +46,14 @@ struct Team {
 impl Team {
     fn new(live: &LiveLibrary) -> Self {
         let mut host = ScriptedHost::new(&Vocabulary::reference());
-        host.queries.insert("play_mode".into(), Value::String("PlayOn".into()));
+        host.queries
+            .insert("play_mode".into(), Value::String("PlayOn".into()));
         let runner = TreeRunner::new(&live.current(), "FieldPlayer").unwrap();
-        Self { host, runner, events: Vec::new() }
+        Self {
+            host,
+            runner,
+            events: Vec::new(),
+        }
     }
 
     /// One agent cycle: pick up the newest library, tick, sleep the rest of the cycle.
@@ -57,7 +68,13 @@ impl Team {
 
     fn runs(&self, action: &str) -> bool {
         let label = format!("Action {action}");
-        self.runner.trace().last().unwrap().leaves().iter().any(|(l, s)| *l == label && *s == Status::Running)
+        self.runner
+            .trace()
+            .last()
+            .unwrap()
+            .leaves()
+            .iter()
+            .any(|(l, s)| *l == label && *s == Status::Running)
     }
 
     /// Cycles until `action` runs; returns how many cycles started after `window_end`.
@@ -92,28 +109,58 @@ fn edit_then_broken_edit_then_fix() {
     for _ in 0..3 {
         team.cycle(&live);
     }
-    assert!(team.runs("WalkTo"), "play on walks to the formation position");
+    assert!(
+        team.runs("WalkTo"),
+        "play on walks to the formation position"
+    );
 
     // 1. A behavior change shows in the trace within 3 cycles after the debounce window.
     let written = Instant::now();
-    replace_in(&file, PLAY_ON, r#"Action(name: "LookAround", period: 2.0),"#);
+    replace_in(
+        &file,
+        PLAY_ON,
+        r#"Action(name: "LookAround", period: 2.0),"#,
+    );
     let late = team.cycles_until(&live, "LookAround", written + DEBOUNCE);
-    assert!(late <= 3, "new tree active {late} cycles after the debounce window");
+    assert!(
+        late <= 3,
+        "new tree active {late} cycles after the debounce window"
+    );
     assert_eq!(live.generation(), 2);
-    assert!(matches!(team.events.as_slice(), [ReloadEvent::Reloaded { generation: 2, recovered: false, .. }]), "{:?}", team.events);
+    assert!(
+        matches!(
+            team.events.as_slice(),
+            [ReloadEvent::Reloaded {
+                generation: 2,
+                recovered: false,
+                ..
+            }]
+        ),
+        "{:?}",
+        team.events
+    );
     team.events.clear();
 
     // 2. A broken edit: the old tree keeps running and the error is reported once.
     let good = std::fs::read_to_string(&file).unwrap();
-    let broken = good.replace(r#"Action(name: "LookAround", period: 2.0),"#, r#"Action(name: "LookAroundd", period: 2.0),"#);
+    let broken = good.replace(
+        r#"Action(name: "LookAround", period: 2.0),"#,
+        r#"Action(name: "LookAroundd", period: 2.0),"#,
+    );
     std::fs::write(&file, &broken).unwrap();
     let deadline = Instant::now() + Duration::from_secs(5);
     while team.events.is_empty() && Instant::now() < deadline {
         team.cycle(&live);
         assert!(team.runs("LookAround"), "the last good tree keeps running");
     }
-    let [ReloadEvent::Rejected { report }] = team.events.as_slice() else { panic!("expected one rejection: {:?}", team.events) };
-    assert!(report.render_text().contains("did you mean `LookAround`?"), "{}", report.render_text());
+    let [ReloadEvent::Rejected { report }] = team.events.as_slice() else {
+        panic!("expected one rejection: {:?}", team.events)
+    };
+    assert!(
+        report.render_text().contains("did you mean `LookAround`?"),
+        "{}",
+        report.render_text()
+    );
     // Saving the same broken content again is not reported again.
     std::fs::write(&file, &broken).unwrap();
     for _ in 0..((DEBOUNCE * 3).as_millis() / CYCLE.as_millis()) {
@@ -126,10 +173,31 @@ fn edit_then_broken_edit_then_fix() {
 
     // 3. The fix runs, and the watcher says the error is fixed.
     let written = Instant::now();
-    std::fs::write(&file, good.replace(r#"Action(name: "LookAround", period: 2.0),"#, r#"Action("BeamToFormation"),"#)).unwrap();
+    std::fs::write(
+        &file,
+        good.replace(
+            r#"Action(name: "LookAround", period: 2.0),"#,
+            r#"Action("BeamToFormation"),"#,
+        ),
+    )
+    .unwrap();
     let late = team.cycles_until(&live, "BeamToFormation", written + DEBOUNCE);
-    assert!(late <= 3, "fixed tree active {late} cycles after the debounce window");
-    assert!(matches!(team.events.as_slice(), [ReloadEvent::Reloaded { generation: 3, recovered: true, .. }]), "{:?}", team.events);
+    assert!(
+        late <= 3,
+        "fixed tree active {late} cycles after the debounce window"
+    );
+    assert!(
+        matches!(
+            team.events.as_slice(),
+            [ReloadEvent::Reloaded {
+                generation: 3,
+                recovered: true,
+                ..
+            }]
+        ),
+        "{:?}",
+        team.events
+    );
 }
 
 /// Waits until the library reaches `generation` or a rejection arrives.
@@ -159,24 +227,43 @@ fn editor_save_patterns_files_added_removed_and_renamed() {
     std::fs::write(&temporary, &edited).unwrap();
     std::fs::rename(&temporary, &field_player).unwrap();
     wait_generation(&live, 2);
-    assert!(live.current().tree("FieldPlayer").unwrap().nodes.iter().any(|n| n.label == "Action Stand"));
+    assert!(live
+        .current()
+        .tree("FieldPlayer")
+        .unwrap()
+        .nodes
+        .iter()
+        .any(|n| n.label == "Action Stand"));
 
     // Truncate, then write a moment later, within the debounce window: one reload, no error.
     std::fs::write(&field_player, "").unwrap();
     std::thread::sleep(DEBOUNCE / 4);
     std::fs::write(&field_player, &text).unwrap();
     let events = wait_generation(&live, 3);
-    assert!(events.iter().all(|e| matches!(e, ReloadEvent::Reloaded { .. })), "{events:?}");
+    assert!(
+        events
+            .iter()
+            .all(|e| matches!(e, ReloadEvent::Reloaded { .. })),
+        "{events:?}"
+    );
 
     // A new file with a new tree.
-    std::fs::write(behaviors.join("extra.ron"), r#"Behaviors(trees: { "Extra": Action("Stand") })"#).unwrap();
+    std::fs::write(
+        behaviors.join("extra.ron"),
+        r#"Behaviors(trees: { "Extra": Action("Stand") })"#,
+    )
+    .unwrap();
     wait_generation(&live, 4);
     assert!(live.current().tree("Extra").is_some());
 
     // Renamed: the tree is still there, found at its new path.
     std::fs::rename(behaviors.join("extra.ron"), behaviors.join("renamed.ron")).unwrap();
     wait_generation(&live, 5);
-    assert!(live.current().files().iter().any(|f| f.ends_with("renamed.ron")));
+    assert!(live
+        .current()
+        .files()
+        .iter()
+        .any(|f| f.ends_with("renamed.ron")));
     assert!(live.current().tree("Extra").is_some());
 
     // Removed: the tree is gone.
@@ -193,8 +280,14 @@ fn editor_save_patterns_files_added_removed_and_renamed() {
         }
         assert!(Instant::now() < deadline, "no rejection reported");
     };
-    let ReloadEvent::Rejected { report } = event else { panic!("expected a rejection, got {event:?}") };
-    assert!(report.render_text().contains("missing-subtree"), "{}", report.render_text());
+    let ReloadEvent::Rejected { report } = event else {
+        panic!("expected a rejection, got {event:?}")
+    };
+    assert!(
+        report.render_text().contains("missing-subtree"),
+        "{}",
+        report.render_text()
+    );
     assert_eq!(live.generation(), 6);
     assert!(live.current().tree("GetUp").is_some());
 }
@@ -202,8 +295,16 @@ fn editor_save_patterns_files_added_removed_and_renamed() {
 #[test]
 fn broken_files_at_start_fail_with_every_error() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("a.ron"), r#"Behaviors(trees: { "A": Action("Sit"), "B": SubTree("C") })"#).unwrap();
-    let Err(report) = LiveLibrary::start(vec![dir.path().to_path_buf()], Arc::new(Vocabulary::reference()), ReloadOptions::default()) else {
+    std::fs::write(
+        dir.path().join("a.ron"),
+        r#"Behaviors(trees: { "A": Action("Sit"), "B": SubTree("C") })"#,
+    )
+    .unwrap();
+    let Err(report) = LiveLibrary::start(
+        vec![dir.path().to_path_buf()],
+        Arc::new(Vocabulary::reference()),
+        ReloadOptions::default(),
+    ) else {
         panic!("a broken library must not start");
     };
     assert_eq!(report.error_count(), 2, "{}", report.render_text());

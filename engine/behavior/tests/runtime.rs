@@ -27,7 +27,11 @@ impl Rig {
     fn new(library: Arc<Library>) -> Self {
         let host = ScriptedHost::new(&Vocabulary::reference());
         let runner = TreeRunner::new(&library, "Main").unwrap();
-        Self { host, runner, library }
+        Self {
+            host,
+            runner,
+            library,
+        }
     }
     fn tick(&mut self) -> Status {
         self.runner.tick(&mut self.host, &self.library)
@@ -36,37 +40,56 @@ impl Rig {
         self.host.actions.insert(name.into(), status);
     }
     fn take_calls(&mut self) -> Vec<String> {
-        std::mem::take(&mut self.host.calls).into_iter().map(|(n, _)| n).collect()
+        std::mem::take(&mut self.host.calls)
+            .into_iter()
+            .map(|(n, _)| n)
+            .collect()
     }
 }
 
 #[test]
 fn sequence_remembers_the_running_child_and_reactive_sequence_does_not() {
-    let mut rig = Rig::new(library(r#""Main": Sequence([Action("Stand"), Action("LookAround")])"#));
+    let mut rig = Rig::new(library(
+        r#""Main": Sequence([Action("Stand"), Action("LookAround")])"#,
+    ));
     rig.set_action("Stand", Status::Success);
     assert_eq!(rig.tick(), Status::Running);
     assert_eq!(rig.take_calls(), ["Stand", "LookAround"]);
     assert_eq!(rig.tick(), Status::Running);
-    assert_eq!(rig.take_calls(), ["LookAround"], "memory: Stand is not re-run");
+    assert_eq!(
+        rig.take_calls(),
+        ["LookAround"],
+        "memory: Stand is not re-run"
+    );
 
-    let mut rig = Rig::new(library(r#""Main": ReactiveSequence([Condition("IsFallen"), Action("LookAround")])"#));
+    let mut rig = Rig::new(library(
+        r#""Main": ReactiveSequence([Condition("IsFallen"), Action("LookAround")])"#,
+    ));
     rig.host.conditions.insert("IsFallen".into(), true);
     assert_eq!(rig.tick(), Status::Running);
     rig.host.conditions.insert("IsFallen".into(), false);
     assert_eq!(rig.tick(), Status::Failure);
-    assert_eq!(rig.host.halts, ["LookAround"], "the running action is halted when the condition turns false");
+    assert_eq!(
+        rig.host.halts,
+        ["LookAround"],
+        "the running action is halted when the condition turns false"
+    );
 }
 
 #[test]
 fn fallback_and_reactive_fallback_preempt_lower_priorities() {
-    let mut rig = Rig::new(library(r#""Main": ReactiveFallback([Sequence([Condition("IsFallen"), Action("Stand")]), Action("LookAround")])"#));
+    let mut rig = Rig::new(library(
+        r#""Main": ReactiveFallback([Sequence([Condition("IsFallen"), Action("Stand")]), Action("LookAround")])"#,
+    ));
     assert_eq!(rig.tick(), Status::Running);
     assert_eq!(rig.take_calls(), ["LookAround"]);
     rig.host.conditions.insert("IsFallen".into(), true);
     rig.tick();
     assert_eq!(rig.take_calls(), ["Stand"]);
     assert_eq!(rig.host.halts, ["LookAround"]);
-    let mut rig = Rig::new(library(r#""Main": Fallback([Fail, Succeed, Action("Stand")])"#));
+    let mut rig = Rig::new(library(
+        r#""Main": Fallback([Fail, Succeed, Action("Stand")])"#,
+    ));
     assert_eq!(rig.tick(), Status::Success);
     assert!(rig.host.calls.is_empty());
 }
@@ -80,7 +103,11 @@ fn parallel_thresholds() {
     assert_eq!(rig.take_calls(), ["Stand", "LookAround", "BeamToFormation"]);
     rig.set_action("LookAround", Status::Success);
     assert_eq!(rig.tick(), Status::Success);
-    assert_eq!(rig.take_calls(), ["LookAround", "BeamToFormation"], "a finished child is not re-run");
+    assert_eq!(
+        rig.take_calls(),
+        ["LookAround", "BeamToFormation"],
+        "a finished child is not re-run"
+    );
     assert_eq!(rig.host.halts, ["BeamToFormation"]);
     let mut rig = Rig::new(library(text));
     rig.set_action("BeamToFormation", Status::Failure);
@@ -91,11 +118,31 @@ fn parallel_thresholds() {
 #[test]
 fn decorators() {
     for (tree, action, expected) in [
-        (r#"Invert(Action("Stand"))"#, Status::Success, Status::Failure),
-        (r#"Invert(Action("Stand"))"#, Status::Failure, Status::Success),
-        (r#"ForceSuccess(Action("Stand"))"#, Status::Failure, Status::Success),
-        (r#"ForceFailure(Action("Stand"))"#, Status::Success, Status::Failure),
-        (r#"ForceFailure(Action("Stand"))"#, Status::Running, Status::Running),
+        (
+            r#"Invert(Action("Stand"))"#,
+            Status::Success,
+            Status::Failure,
+        ),
+        (
+            r#"Invert(Action("Stand"))"#,
+            Status::Failure,
+            Status::Success,
+        ),
+        (
+            r#"ForceSuccess(Action("Stand"))"#,
+            Status::Failure,
+            Status::Success,
+        ),
+        (
+            r#"ForceFailure(Action("Stand"))"#,
+            Status::Success,
+            Status::Failure,
+        ),
+        (
+            r#"ForceFailure(Action("Stand"))"#,
+            Status::Running,
+            Status::Running,
+        ),
     ] {
         let mut rig = Rig::new(library(&format!(r#""Main": {tree}"#)));
         rig.set_action("Stand", action);
@@ -107,18 +154,29 @@ fn decorators() {
 fn repeat_and_retry_count_one_attempt_per_tick() {
     let mut rig = Rig::new(library(r#""Main": Repeat(n: 3, child: Action("Stand"))"#));
     rig.set_action("Stand", Status::Success);
-    assert_eq!([rig.tick(), rig.tick(), rig.tick()], [Status::Running, Status::Running, Status::Success]);
+    assert_eq!(
+        [rig.tick(), rig.tick(), rig.tick()],
+        [Status::Running, Status::Running, Status::Success]
+    );
     assert_eq!(rig.take_calls().len(), 3);
-    assert_eq!(rig.tick(), Status::Running, "a new round starts after success");
+    assert_eq!(
+        rig.tick(),
+        Status::Running,
+        "a new round starts after success"
+    );
 
-    let mut rig = Rig::new(library(r#""Main": RetryUntilSuccess(n: 2, child: Action("Stand"))"#));
+    let mut rig = Rig::new(library(
+        r#""Main": RetryUntilSuccess(n: 2, child: Action("Stand"))"#,
+    ));
     rig.set_action("Stand", Status::Failure);
     assert_eq!([rig.tick(), rig.tick()], [Status::Running, Status::Failure]);
 }
 
 #[test]
 fn timeout_halts_and_cooldown_blocks() {
-    let mut rig = Rig::new(library(r#""Main": Timeout(seconds: 1.0, child: Action("LookAround"))"#));
+    let mut rig = Rig::new(library(
+        r#""Main": Timeout(seconds: 1.0, child: Action("LookAround"))"#,
+    ));
     assert_eq!(rig.tick(), Status::Running);
     rig.host.time = 0.5;
     assert_eq!(rig.tick(), Status::Running);
@@ -126,12 +184,18 @@ fn timeout_halts_and_cooldown_blocks() {
     assert_eq!(rig.tick(), Status::Failure);
     assert_eq!(rig.host.halts, ["LookAround"]);
 
-    let mut rig = Rig::new(library(r#""Main": Cooldown(seconds: 2.0, child: Action("Stand"))"#));
+    let mut rig = Rig::new(library(
+        r#""Main": Cooldown(seconds: 2.0, child: Action("Stand"))"#,
+    ));
     rig.set_action("Stand", Status::Success);
     assert_eq!(rig.tick(), Status::Success);
     rig.host.time = 1.9;
     assert_eq!(rig.tick(), Status::Failure);
-    assert_eq!(rig.take_calls().len(), 1, "the child is not ticked during the cooldown");
+    assert_eq!(
+        rig.take_calls().len(),
+        1,
+        "the child is not ticked during the cooldown"
+    );
     rig.host.time = 2.0;
     assert_eq!(rig.tick(), Status::Success);
 }
@@ -144,12 +208,26 @@ fn wait_compare_and_set() {
         Compare(left: Query("ball_distance"), op: "<", right: 2),
         Action(name: "WalkTo", target: Bb("target")),
     ])"#;
-    let mut rig = Rig::new(library_with(trees, r#""target": Vec2((0.0, 0.0)), "count": Float(0.0)"#));
-    rig.host.queries.insert("ball_position".into(), Value::Vec2(Vec2::new(1.0, 2.0)));
+    let mut rig = Rig::new(library_with(
+        trees,
+        r#""target": Vec2((0.0, 0.0)), "count": Float(0.0)"#,
+    ));
+    rig.host
+        .queries
+        .insert("ball_position".into(), Value::Vec2(Vec2::new(1.0, 2.0)));
     assert_eq!(rig.tick(), Status::Failure, "ball_distance 5 is not < 2");
-    assert_eq!(rig.runner.blackboard().get("target"), Some(&Value::Vec2(Vec2::new(1.0, 2.0))));
-    assert_eq!(rig.runner.blackboard().get("count"), Some(&Value::Float(3.0)), "Int widened to the declared Float");
-    rig.host.queries.insert("ball_distance".into(), Value::Float(1.0));
+    assert_eq!(
+        rig.runner.blackboard().get("target"),
+        Some(&Value::Vec2(Vec2::new(1.0, 2.0)))
+    );
+    assert_eq!(
+        rig.runner.blackboard().get("count"),
+        Some(&Value::Float(3.0)),
+        "Int widened to the declared Float"
+    );
+    rig.host
+        .queries
+        .insert("ball_distance".into(), Value::Float(1.0));
     assert_eq!(rig.tick(), Status::Running);
     assert_eq!(rig.host.calls[0].1[0], Value::Vec2(Vec2::new(1.0, 2.0)));
 
@@ -169,8 +247,14 @@ fn subtree_parameters_are_bound_per_call() {
     rig.set_action("WalkTo", Status::Success);
     assert_eq!(rig.tick(), Status::Success);
     let args: Vec<Vec<Value>> = rig.host.calls.iter().map(|(_, a)| a.clone()).collect();
-    assert_eq!(args[0][..2], [Value::Vec2(Vec2::new(1.0, 1.0)), Value::Float(0.4)]);
-    assert_eq!(args[1][..2], [Value::Vec2(Vec2::new(0.0, 0.0)), Value::Float(1.0)]);
+    assert_eq!(
+        args[0][..2],
+        [Value::Vec2(Vec2::new(1.0, 1.0)), Value::Float(0.4)]
+    );
+    assert_eq!(
+        args[1][..2],
+        [Value::Vec2(Vec2::new(0.0, 0.0)), Value::Float(1.0)]
+    );
 }
 
 #[test]
@@ -179,15 +263,28 @@ fn utility_picks_the_best_choice_with_hysteresis() {
         Choice(considerations: [Consider(input: Query("ball_distance"), curve: Linear(from: 10.0, to: 0.0))], child: Action("WalkTo", )),
         Choice(weight: 0.5, child: Action("LookAround")),
     ])"#;
-    let trees = trees.replace(r#"Action("WalkTo", )"#, r#"Action(name: "WalkTo", target: (0.0, 0.0))"#);
+    let trees = trees.replace(
+        r#"Action("WalkTo", )"#,
+        r#"Action(name: "WalkTo", target: (0.0, 0.0))"#,
+    );
     let mut rig = Rig::new(library(&trees));
-    rig.host.queries.insert("ball_distance".into(), Value::Float(8.0)); // score 0.2 < 0.5
+    rig.host
+        .queries
+        .insert("ball_distance".into(), Value::Float(8.0)); // score 0.2 < 0.5
     rig.tick();
     assert_eq!(rig.take_calls(), ["LookAround"]);
-    rig.host.queries.insert("ball_distance".into(), Value::Float(4.0)); // 0.6 < 0.5 + 0.2: stay
+    rig.host
+        .queries
+        .insert("ball_distance".into(), Value::Float(4.0)); // 0.6 < 0.5 + 0.2: stay
     rig.tick();
-    assert_eq!(rig.take_calls(), ["LookAround"], "hysteresis keeps the running choice");
-    rig.host.queries.insert("ball_distance".into(), Value::Float(2.0)); // 0.8 > 0.7: switch
+    assert_eq!(
+        rig.take_calls(),
+        ["LookAround"],
+        "hysteresis keeps the running choice"
+    );
+    rig.host
+        .queries
+        .insert("ball_distance".into(), Value::Float(2.0)); // 0.8 > 0.7: switch
     rig.tick();
     assert_eq!(rig.take_calls(), ["WalkTo"]);
     assert_eq!(rig.host.halts, ["LookAround"]);
@@ -195,8 +292,12 @@ fn utility_picks_the_best_choice_with_hysteresis() {
 
 #[test]
 fn trace_records_the_active_path_in_a_ring() {
-    let mut rig = Rig::new(library(r#""Main": ReactiveSequence([Condition("CanBeam"), Action("Stand")])"#));
-    rig.runner = TreeRunner::new(&rig.library, "Main").unwrap().with_trace_capacity(4);
+    let mut rig = Rig::new(library(
+        r#""Main": ReactiveSequence([Condition("CanBeam"), Action("Stand")])"#,
+    ));
+    rig.runner = TreeRunner::new(&rig.library, "Main")
+        .unwrap()
+        .with_trace_capacity(4);
     rig.host.conditions.insert("CanBeam".into(), true);
     for _ in 0..6 {
         rig.tick();
@@ -207,15 +308,34 @@ fn trace_records_the_active_path_in_a_ring() {
     assert_eq!(ticks, [3, 4, 5, 6]);
     let last = trace.last().unwrap();
     let visited: Vec<(&str, Status)> = last.visited().collect();
-    assert_eq!(visited, [("ReactiveSequence", Status::Running), ("Condition CanBeam", Status::Success), ("Action Stand", Status::Running)]);
-    assert!(last.render().contains("    Action Stand → Running"), "{}", last.render());
+    assert_eq!(
+        visited,
+        [
+            ("ReactiveSequence", Status::Running),
+            ("Condition CanBeam", Status::Success),
+            ("Action Stand", Status::Running)
+        ]
+    );
+    assert!(
+        last.render().contains("    Action Stand → Running"),
+        "{}",
+        last.render()
+    );
 }
 
 #[test]
 fn swap_keeps_state_of_unchanged_subtrees_and_the_blackboard() {
     let shared = r#""Count": Repeat(n: 5, child: Action("Stand")),"#;
-    let v1 = library_with(&format!(r#"{shared} "Main": Sequence([Condition("CanBeam"), SubTree("Count")])"#), r#""n": Int(0)"#);
-    let v2 = library_with(&format!(r#"{shared} "Main": Sequence([Condition("CanBeam"), Set(key: "n", value: 1), SubTree("Count")])"#), r#""n": Int(0), "extra": Bool(false)"#);
+    let v1 = library_with(
+        &format!(r#"{shared} "Main": Sequence([Condition("CanBeam"), SubTree("Count")])"#),
+        r#""n": Int(0)"#,
+    );
+    let v2 = library_with(
+        &format!(
+            r#"{shared} "Main": Sequence([Condition("CanBeam"), Set(key: "n", value: 1), SubTree("Count")])"#
+        ),
+        r#""n": Int(0), "extra": Bool(false)"#,
+    );
     let mut host = ScriptedHost::new(&Vocabulary::reference());
     host.conditions.insert("CanBeam".into(), true);
     host.actions.insert("Stand".into(), Status::Success);
@@ -226,7 +346,11 @@ fn swap_keeps_state_of_unchanged_subtrees_and_the_blackboard() {
     }
     // Two more repetitions finish the count only if the Repeat kept its count of 3.
     assert_eq!(runner.tick(&mut host, &v2), Status::Running);
-    assert_eq!(runner.blackboard().get("n"), Some(&Value::Int(1)), "v2's Set ran on the carried blackboard");
+    assert_eq!(
+        runner.blackboard().get("n"),
+        Some(&Value::Int(1)),
+        "v2's Set ran on the carried blackboard"
+    );
     assert_eq!(runner.tick(&mut host, &v2), Status::Success);
     assert_eq!(runner.blackboard().get("extra"), Some(&Value::Bool(false)));
 

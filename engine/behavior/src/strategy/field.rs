@@ -14,8 +14,20 @@ pub struct Field {
 }
 
 impl Field {
-    pub const FIFA_7VS7: Field = Field { name: "fifa7vs7", length: 55.0, width: 36.0, goal_width: 5.0, players: 7 };
-    pub const FIFA: Field = Field { name: "fifa", length: 105.0, width: 68.0, goal_width: 7.32, players: 11 };
+    pub const FIFA_7VS7: Field = Field {
+        name: "fifa7vs7",
+        length: 55.0,
+        width: 36.0,
+        goal_width: 5.0,
+        players: 7,
+    };
+    pub const FIFA: Field = Field {
+        name: "fifa",
+        length: 105.0,
+        width: 68.0,
+        goal_width: 7.32,
+        players: 11,
+    };
     pub const ALL: [Field; 2] = [Field::FIFA_7VS7, Field::FIFA];
 
     pub fn by_name(name: &str) -> Option<Field> {
@@ -35,12 +47,20 @@ impl Field {
     }
 
     pub fn clamp(&self, p: Vec2) -> Vec2 {
-        Vec2::new(p.x.clamp(-self.half_length(), self.half_length()), p.y.clamp(-self.half_width(), self.half_width()))
+        Vec2::new(
+            p.x.clamp(-self.half_length(), self.half_length()),
+            p.y.clamp(-self.half_width(), self.half_width()),
+        )
     }
 
     pub fn corners(&self) -> [Vec2; 4] {
         let (x, y) = (self.half_length(), self.half_width());
-        [Vec2::new(-x, -y), Vec2::new(x, -y), Vec2::new(x, y), Vec2::new(-x, y)]
+        [
+            Vec2::new(-x, -y),
+            Vec2::new(x, -y),
+            Vec2::new(x, y),
+            Vec2::new(-x, y),
+        ]
     }
 
     pub fn own_goal(&self) -> Vec2 {

@@ -44,6 +44,10 @@ impl Strategy {
     /// The root tree player `unum` runs (unum 1 is the goalkeeper).
     pub fn tree_for(&self, unum: u8) -> Option<&str> {
         let team = self.team.as_ref()?;
-        Some(if unum == 1 { &team.goalkeeper_tree.0 } else { &team.field_player_tree.0 })
+        Some(if unum == 1 {
+            &team.goalkeeper_tree.0
+        } else {
+            &team.field_player_tree.0
+        })
     }
 }

@@ -7,7 +7,14 @@ use crate::syntax::{Node, Span};
 use crate::value::Vec2;
 use std::collections::BTreeMap;
 
-fn number(decoder: &mut Decoder, fields: &mut Fields, name: &str, min: f64, max: f64, default: f64) -> Option<f64> {
+fn number(
+    decoder: &mut Decoder,
+    fields: &mut Fields,
+    name: &str,
+    min: f64,
+    max: f64,
+    default: f64,
+) -> Option<f64> {
     match fields.take(name) {
         Some(node) => decoder.float_in(node, min, max),
         None => Some(default),
@@ -28,7 +35,11 @@ impl GoalkeeperParams {
         let goal = field.own_goal();
         let (dx, dy) = (ball.x - goal.x, ball.y - goal.y);
         let length = (dx * dx + dy * dy).sqrt();
-        let (ux, uy) = if length < 1e-9 { (1.0, 0.0) } else { (dx / length, dy / length) };
+        let (ux, uy) = if length < 1e-9 {
+            (1.0, 0.0)
+        } else {
+            (dx / length, dy / length)
+        };
         let x = (goal.x + ux * self.radius).max(goal.x + self.min_line_offset);
         let y = (goal.y + uy * self.radius).clamp(-self.max_abs_y, self.max_abs_y);
         Vec2::new(x, y)
@@ -41,7 +52,11 @@ pub fn parse_goalkeeper(decoder: &mut Decoder, node: &Node) -> Option<Goalkeeper
     let min_line_offset = number(decoder, &mut fields, "min_line_offset", 0.0, 5.0, 0.3);
     let max_abs_y = number(decoder, &mut fields, "max_abs_y", 0.0, 10.0, 2.0);
     fields.finish(decoder, &["radius", "min_line_offset", "max_abs_y"]);
-    Some(GoalkeeperParams { radius: radius?, min_line_offset: min_line_offset?, max_abs_y: max_abs_y? })
+    Some(GoalkeeperParams {
+        radius: radius?,
+        min_line_offset: min_line_offset?,
+        max_abs_y: max_abs_y?,
+    })
 }
 
 /// Scores a shot from distance to goal and the angular opening between defenders.
@@ -82,7 +97,16 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
     let opening_weight = number(decoder, &mut fields, "opening_weight", 0.0, 1.0, 0.5);
     let threshold = number(decoder, &mut fields, "threshold", 0.0, 1.0, 0.4);
     let span = fields.span;
-    fields.finish(decoder, &["max_distance", "min_opening", "distance_weight", "opening_weight", "threshold"]);
+    fields.finish(
+        decoder,
+        &[
+            "max_distance",
+            "min_opening",
+            "distance_weight",
+            "opening_weight",
+            "threshold",
+        ],
+    );
     let params = ShotParams {
         max_distance: max_distance?,
         min_opening: min_opening?,
@@ -91,7 +115,9 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
         threshold: threshold?,
     };
     if params.distance_weight + params.opening_weight <= 0.0 {
-        decoder.error("out-of-range", span, "shot weights are both zero").hint = Some("give at least one weight a positive value".into());
+        decoder
+            .error("out-of-range", span, "shot weights are both zero")
+            .hint = Some("give at least one weight a positive value".into());
         return None;
     }
     Some(params)
@@ -114,8 +140,12 @@ impl AvoidanceParams {
         if distance >= self.influence || distance < 1e-9 {
             return Vec2::default();
         }
-        let strength = self.gain * (self.influence - distance.max(self.radius)) / (self.influence - self.radius);
-        Vec2::new(offset.x / distance * strength, offset.y / distance * strength)
+        let strength = self.gain * (self.influence - distance.max(self.radius))
+            / (self.influence - self.radius);
+        Vec2::new(
+            offset.x / distance * strength,
+            offset.y / distance * strength,
+        )
     }
 }
 
@@ -131,9 +161,17 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
     let ball_clearance = number(decoder, &mut fields, "ball_clearance", 0.0, 2.0, 0.3);
     let span = influence_node.map_or(fields.span, |n| n.span);
     fields.finish(decoder, &["radius", "influence", "gain", "ball_clearance"]);
-    let params = AvoidanceParams { radius: radius?, influence: influence?, gain: gain?, ball_clearance: ball_clearance? };
+    let params = AvoidanceParams {
+        radius: radius?,
+        influence: influence?,
+        gain: gain?,
+        ball_clearance: ball_clearance?,
+    };
     if params.influence <= params.radius {
-        let message = format!("`influence` ({} m) must exceed `radius` ({} m)", params.influence, params.radius);
+        let message = format!(
+            "`influence` ({} m) must exceed `radius` ({} m)",
+            params.influence, params.radius
+        );
         decoder.error("out-of-range", span, message);
         return None;
     }
@@ -197,8 +235,13 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
         Some(n) => decoder.string(n).and_then(|name| {
             let field = Field::by_name(&name);
             if field.is_none() {
-                decoder.error("unknown-field-kind", n.span, format!("unknown field `{name}`")).hint =
-                    Some("fields are fifa7vs7 and fifa".into());
+                decoder
+                    .error(
+                        "unknown-field-kind",
+                        n.span,
+                        format!("unknown field `{name}`"),
+                    )
+                    .hint = Some("fields are fifa7vs7 and fifa".into());
             }
             field
         }),
@@ -207,17 +250,36 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
     let goalkeeper_tree = named(decoder, &mut fields, "goalkeeper_tree");
     let field_player_tree = named(decoder, &mut fields, "field_player_tree");
     let formations_node = fields.require(decoder, "formations");
-    fields.finish(decoder, &["field", "goalkeeper_tree", "field_player_tree", "formations"]);
+    fields.finish(
+        decoder,
+        &[
+            "field",
+            "goalkeeper_tree",
+            "field_player_tree",
+            "formations",
+        ],
+    );
     let mut formations = BTreeMap::new();
     if let Some(node) = formations_node {
         for (key, value) in decoder.map(node).unwrap_or_default() {
             let Some((name, span)) = Decoder::head(key) else {
-                decoder.error("invalid-value", key.span, "expected a situation such as `PlayOnAttack`");
+                decoder.error(
+                    "invalid-value",
+                    key.span,
+                    "expected a situation such as `PlayOnAttack`",
+                );
                 continue;
             };
             let Some(situation) = Situation::ALL.into_iter().find(|s| s.name() == name) else {
-                let hint = crate::diagnostics::did_you_mean(name, Situation::ALL.iter().map(|s| s.name()));
-                decoder.error("unknown-situation", span, format!("unknown situation `{name}`")).hint = hint;
+                let hint =
+                    crate::diagnostics::did_you_mean(name, Situation::ALL.iter().map(|s| s.name()));
+                decoder
+                    .error(
+                        "unknown-situation",
+                        span,
+                        format!("unknown situation `{name}`"),
+                    )
+                    .hint = hint;
                 continue;
             };
             if let Some(formation) = decoder.string(value) {
@@ -226,13 +288,24 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
         }
         for situation in Situation::ALL {
             if !formations.contains_key(&situation) {
-                decoder.error("missing-situation", node.span, format!("no formation for situation `{}`", situation.name()));
+                decoder.error(
+                    "missing-situation",
+                    node.span,
+                    format!("no formation for situation `{}`", situation.name()),
+                );
             }
         }
     }
-    Some(TeamParams { field: field?, goalkeeper_tree: goalkeeper_tree?, field_player_tree: field_player_tree?, formations })
+    Some(TeamParams {
+        field: field?,
+        goalkeeper_tree: goalkeeper_tree?,
+        field_player_tree: field_player_tree?,
+        formations,
+    })
 }
 
 fn named(decoder: &mut Decoder, fields: &mut Fields, key: &str) -> Option<(String, Span)> {
-    fields.require(decoder, key).and_then(|n| decoder.string(n).map(|s| (s, n.span)))
+    fields
+        .require(decoder, key)
+        .and_then(|n| decoder.string(n).map(|s| (s, n.span)))
 }

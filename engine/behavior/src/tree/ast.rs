@@ -77,7 +77,11 @@ pub enum DecoratorKind {
 }
 
 impl DecoratorKind {
-    pub const ALL: [DecoratorKind; 3] = [DecoratorKind::Invert, DecoratorKind::ForceSuccess, DecoratorKind::ForceFailure];
+    pub const ALL: [DecoratorKind; 3] = [
+        DecoratorKind::Invert,
+        DecoratorKind::ForceSuccess,
+        DecoratorKind::ForceFailure,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             DecoratorKind::Invert => "Invert",
@@ -112,7 +116,14 @@ pub enum CompareOp {
 }
 
 impl CompareOp {
-    pub const ALL: [CompareOp; 6] = [CompareOp::Lt, CompareOp::Le, CompareOp::Gt, CompareOp::Ge, CompareOp::Eq, CompareOp::Ne];
+    pub const ALL: [CompareOp; 6] = [
+        CompareOp::Lt,
+        CompareOp::Le,
+        CompareOp::Gt,
+        CompareOp::Ge,
+        CompareOp::Eq,
+        CompareOp::Ne,
+    ];
     pub fn symbol(self) -> &'static str {
         match self {
             CompareOp::Lt => "<",
@@ -128,16 +139,32 @@ impl CompareOp {
 #[derive(Debug, Clone)]
 pub enum NodeDefKind {
     Composite(CompositeKind, Vec<NodeDef>),
-    Parallel { success: u32, failure: u32, threshold_span: Span, children: Vec<NodeDef> },
+    Parallel {
+        success: u32,
+        failure: u32,
+        threshold_span: Span,
+        children: Vec<NodeDef>,
+    },
     Decorator(DecoratorKind, Box<NodeDef>),
     Counted(CountKind, u32, Box<NodeDef>),
     Timed(TimedKind, f64, Box<NodeDef>),
-    Utility { hysteresis: f64, choices: Vec<Choice> },
+    Utility {
+        hysteresis: f64,
+        choices: Vec<Choice>,
+    },
     Condition(Call),
     Action(Call),
     SubTree(Call),
-    Compare { left: Expr, op: CompareOp, right: Expr },
-    Set { key: String, key_span: Span, value: Expr },
+    Compare {
+        left: Expr,
+        op: CompareOp,
+        right: Expr,
+    },
+    Set {
+        key: String,
+        key_span: Span,
+        value: Expr,
+    },
     Wait(f64),
     Succeed,
     Fail,
@@ -195,11 +222,24 @@ pub struct Consideration {
 pub enum Curve {
     Identity,
     /// `from` maps to 0 and `to` to 1, linearly, clamped; `from > to` makes it decreasing.
-    Linear { from: f64, to: f64 },
+    Linear {
+        from: f64,
+        to: f64,
+    },
     /// Linear's normalised input raised to `exponent`.
-    Power { from: f64, to: f64, exponent: f64 },
-    Logistic { mid: f64, steepness: f64 },
-    Step { threshold: f64, above: bool },
+    Power {
+        from: f64,
+        to: f64,
+        exponent: f64,
+    },
+    Logistic {
+        mid: f64,
+        steepness: f64,
+    },
+    Step {
+        threshold: f64,
+        above: bool,
+    },
 }
 
 impl Curve {

@@ -3,6 +3,7 @@
 mod ast;
 mod parse;
 mod print;
+mod utility;
 
 pub use ast::*;
 pub use parse::parse_behavior_file;
@@ -37,12 +38,21 @@ pub const LANGUAGE: &[(&str, &str)] = &[
 
 /// Reads one behavior file's text; the report holds every syntax and shape error.
 pub fn read_behavior_file(path: &std::path::Path, text: &str) -> (BehaviorFile, crate::Report) {
-    let source = std::sync::Arc::new(crate::diagnostics::SourceFile::new(path.to_path_buf(), text.to_string()));
+    let source = std::sync::Arc::new(crate::diagnostics::SourceFile::new(
+        path.to_path_buf(),
+        text.to_string(),
+    ));
     let mut report = crate::Report::default();
     let file = match crate::syntax::parse(text) {
-        Ok(node) => parse_behavior_file(&mut crate::decode::Decoder::new(source, &mut report), &node),
+        Ok(node) => {
+            parse_behavior_file(&mut crate::decode::Decoder::new(source, &mut report), &node)
+        }
         Err(error) => {
-            report.push(crate::Diagnostic::error("syntax", error.message).at(&source, error.span).maybe_hint(error.hint));
+            report.push(
+                crate::Diagnostic::error("syntax", error.message)
+                    .at(&source, error.span)
+                    .maybe_hint(error.hint),
+            );
             BehaviorFile::default()
         }
     };

@@ -9,7 +9,13 @@ pub fn print_behavior_file(file: &BehaviorFile) -> String {
     if !file.blackboard.is_empty() {
         out.push_str("    blackboard: {\n");
         for decl in &file.blackboard {
-            let _ = writeln!(out, "        {:?}: {}({}),", decl.key, decl.ty, constant(&decl.initial));
+            let _ = writeln!(
+                out,
+                "        {:?}: {}({}),",
+                decl.key,
+                decl.ty,
+                constant(&decl.initial)
+            );
         }
         out.push_str("    },\n");
     }
@@ -63,7 +69,11 @@ fn call(head: &str, c: &Call) -> String {
     if c.args.is_empty() {
         return format!("{head}({:?})", c.name);
     }
-    let args: Vec<String> = c.args.iter().map(|a| format!("{}: {}", a.name, expr(&a.value))).collect();
+    let args: Vec<String> = c
+        .args
+        .iter()
+        .map(|a| format!("{}: {}", a.name, expr(&a.value)))
+        .collect();
     format!("{head}(name: {:?}, {})", c.name, args.join(", "))
 }
 
@@ -71,9 +81,15 @@ fn curve(c: &Curve) -> String {
     match c {
         Curve::Identity => "Identity".into(),
         Curve::Linear { from, to } => format!("Linear(from: {from:?}, to: {to:?})"),
-        Curve::Power { from, to, exponent } => format!("Power(from: {from:?}, to: {to:?}, exponent: {exponent:?})"),
-        Curve::Logistic { mid, steepness } => format!("Logistic(mid: {mid:?}, steepness: {steepness:?})"),
-        Curve::Step { threshold, above } => format!("Step(threshold: {threshold:?}, above: {above})"),
+        Curve::Power { from, to, exponent } => {
+            format!("Power(from: {from:?}, to: {to:?}, exponent: {exponent:?})")
+        }
+        Curve::Logistic { mid, steepness } => {
+            format!("Logistic(mid: {mid:?}, steepness: {steepness:?})")
+        }
+        Curve::Step { threshold, above } => {
+            format!("Step(threshold: {threshold:?}, above: {above})")
+        }
     }
 }
 
@@ -95,8 +111,16 @@ fn node(out: &mut String, def: &NodeDef, level: usize) {
             child_list(out, children, level);
             out.push(')');
         }
-        NodeDefKind::Parallel { success, failure, children, .. } => {
-            let _ = write!(out, "Parallel(success: {success}, failure: {failure}, children: ");
+        NodeDefKind::Parallel {
+            success,
+            failure,
+            children,
+            ..
+        } => {
+            let _ = write!(
+                out,
+                "Parallel(success: {success}, failure: {failure}, children: "
+            );
             child_list(out, children, level);
             out.push(')');
         }
@@ -123,16 +147,31 @@ fn node(out: &mut String, def: &NodeDef, level: usize) {
             node(out, child, level);
             out.push(')');
         }
-        NodeDefKind::Utility { hysteresis, choices } => {
+        NodeDefKind::Utility {
+            hysteresis,
+            choices,
+        } => {
             let _ = writeln!(out, "Utility(hysteresis: {hysteresis:?}, choices: [");
             for choice in choices {
                 indent(out, level + 1);
                 let considerations: Vec<String> = choice
                     .considerations
                     .iter()
-                    .map(|c| format!("Consider(input: {}, curve: {}, weight: {:?})", expr(&c.input), curve(&c.curve), c.weight))
+                    .map(|c| {
+                        format!(
+                            "Consider(input: {}, curve: {}, weight: {:?})",
+                            expr(&c.input),
+                            curve(&c.curve),
+                            c.weight
+                        )
+                    })
                     .collect();
-                let _ = write!(out, "Choice(weight: {:?}, considerations: [{}], child: ", choice.weight, considerations.join(", "));
+                let _ = write!(
+                    out,
+                    "Choice(weight: {:?}, considerations: [{}], child: ",
+                    choice.weight,
+                    considerations.join(", ")
+                );
                 node(out, &choice.child, level + 1);
                 out.push_str("),\n");
             }
@@ -143,7 +182,13 @@ fn node(out: &mut String, def: &NodeDef, level: usize) {
         NodeDefKind::Action(c) => out.push_str(&call("Action", c)),
         NodeDefKind::SubTree(c) => out.push_str(&call("SubTree", c)),
         NodeDefKind::Compare { left, op, right } => {
-            let _ = write!(out, "Compare(left: {}, op: {:?}, right: {})", expr(left), op.symbol(), expr(right));
+            let _ = write!(
+                out,
+                "Compare(left: {}, op: {:?}, right: {})",
+                expr(left),
+                op.symbol(),
+                expr(right)
+            );
         }
         NodeDefKind::Set { key, value, .. } => {
             let _ = write!(out, "Set(key: {key:?}, value: {})", expr(value));
