@@ -162,6 +162,7 @@ impl NumericIk {
         let mut damping = self.options.initial_damping;
         let mut previous = [0.0; MAX_CHAIN_JOINTS];
         let mut iterations = 0;
+        let mut stalled_steps = 0;
         while iterations < self.options.max_iterations && !self.done(&current) {
             iterations += 1;
             let jacobian = weighted_jacobian(&state, joints.len(), target, weight);
@@ -181,11 +182,15 @@ impl NumericIk {
             if next.cost() < current.cost() && next.cost().is_finite() {
                 // Converging steps shrink the cost by orders of magnitude; a creep means a target
                 // out of reach (or held by a limit), where more iterations buy nothing.
-                let stalled = next.cost() > current.cost() * (1.0 - 1e-6);
+                if next.cost() > current.cost() * (1.0 - 1e-4) {
+                    stalled_steps += 1;
+                } else {
+                    stalled_steps = 0;
+                }
                 state = next_state;
                 current = next;
                 damping = (damping * 0.3).max(1e-9);
-                if stalled {
+                if stalled_steps >= 5 {
                     break;
                 }
             } else {
@@ -234,7 +239,7 @@ fn weighted_jacobian(
 ) -> [Vector6<f64>; MAX_CHAIN_JOINTS] {
     let mut columns = [Vector6::zeros(); MAX_CHAIN_JOINTS];
     let tip = state.tip.translation.vector;
-    for k in 0..n {
+    for (k, column) in columns.iter_mut().enumerate().take(n) {
         let axis = state.axes[k];
         let linear = axis.cross(&(tip - state.points[k]));
         let (p, w) = match target {
@@ -242,7 +247,7 @@ fn weighted_jacobian(
             IkTarget::Position(_) => (linear, Vector3::zeros()),
             IkTarget::LookAt { .. } => (Vector3::zeros(), axis * weight),
         };
-        columns[k] = Vector6::new(p.x, p.y, p.z, w.x, w.y, w.z);
+        *column = Vector6::new(p.x, p.y, p.z, w.x, w.y, w.z);
     }
     columns
 }
