@@ -1,1 +1,50 @@
-fn main() {}
+//! `libero`: run agents, teams, servers and matches; validate behavior files.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "libero",
+    version,
+    about = "A data-driven control agent for RoboCup 3D soccer simulation"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Play a match: install and start rcssservermj, two teams, kick-off, final score.
+    Match(commands::matchup::MatchArgs),
+    /// Run one agent (RoboCup start-script conventions).
+    Agent(commands::agent::AgentArgs),
+    /// Run a team of agents in one process.
+    Team(commands::team::TeamArgs),
+    /// Manage a local rcssservermj.
+    #[command(subcommand)]
+    Server(commands::server::ServerCommand),
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
+        .format_timestamp_millis()
+        .init();
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Match(args) => commands::matchup::run(args),
+        Command::Agent(args) => commands::agent::run(args),
+        Command::Team(args) => commands::team::run(args),
+        Command::Server(cmd) => commands::server::run(cmd),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -13,7 +13,11 @@ pub enum OutputFormat {
 /// Validates `paths` (default: `behaviors/` and `formations/`), prints every diagnostic and
 /// returns the process exit code: 0 when there is no error (warnings allowed), 1 otherwise.
 pub fn run_validate(paths: &[PathBuf], vocabulary: &Vocabulary, format: OutputFormat) -> i32 {
-    let paths = if paths.is_empty() { vec![PathBuf::from("behaviors"), PathBuf::from("formations")] } else { paths.to_vec() };
+    let paths = if paths.is_empty() {
+        vec![PathBuf::from("behaviors"), PathBuf::from("formations")]
+    } else {
+        paths.to_vec()
+    };
     let report = validate_paths(&paths, vocabulary);
     match format {
         OutputFormat::Text => eprint!("{}", report.render_text()),

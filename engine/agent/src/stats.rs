@@ -1,6 +1,7 @@
 //! Counters an agent keeps about its own connection, readable from other threads.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// Live counters of one agent. All fields only grow.
 #[derive(Debug, Default)]
@@ -17,11 +18,18 @@ pub struct AgentStats {
     pub connections: AtomicU64,
     /// Server time of the last percept, in milliseconds.
     pub last_time_ms: AtomicU64,
+    /// The server's ground-truth torso position in the last percept (evaluation only).
+    pub truth_position: Mutex<Option<[f64; 3]>>,
 }
 
 impl AgentStats {
     pub fn get(counter: &AtomicU64) -> u64 {
         counter.load(Ordering::Relaxed)
+    }
+
+    /// The last ground-truth torso position the server sent.
+    pub fn truth_position(&self) -> Option<[f64; 3]> {
+        self.truth_position.lock().ok().and_then(|t| *t)
     }
 
     pub(crate) fn bump(counter: &AtomicU64) {

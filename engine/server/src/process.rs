@@ -159,7 +159,7 @@ impl ServerProcess {
         loop {
             let log = read_text(&self.log_path());
             if log.contains("Starting server... DONE") {
-                return Ok(());
+                return self.wait_first_step(start);
             }
             if let Some(child) = self.child.as_mut() {
                 if let Ok(Some(status)) = child.try_wait() {
@@ -184,6 +184,29 @@ impl ServerProcess {
             }
             std::thread::sleep(Duration::from_millis(50));
         }
+    }
+
+    /// rcsssmj 0.2.1 crashes (audio engine, `a_forward`) when an agent is activated before
+    /// the simulation's first step. A monitor frame is sent only after a step, so the first
+    /// one proves it is safe to let agents in.
+    fn wait_first_step(&mut self, start: Instant) -> Result<(), ServerError> {
+        while start.elapsed() < START_TIMEOUT {
+            if let Ok(stream) = std::net::TcpStream::connect(("127.0.0.1", self.monitor_port)) {
+                let _ = stream.set_read_timeout(Some(Duration::from_secs(5)));
+                let mut frames = libero_protocol::FrameReader::with_limit(stream, 64 << 20);
+                if frames.read_frame().is_ok() {
+                    return Ok(());
+                }
+            }
+            if !self.is_running() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        Err(ServerError::StartTimeout(
+            START_TIMEOUT.as_secs(),
+            self.log_path().display().to_string(),
+        ))
     }
 
     /// Whether the process is still running.

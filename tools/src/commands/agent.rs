@@ -1,0 +1,38 @@
+//! `libero agent`: one player.
+
+use super::setup::{build_player, ctrl_c_flag, load_robot};
+use super::CliResult;
+use clap::Args;
+use libero_agent::{run_agent, AgentConfig};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Args)]
+pub struct AgentArgs {
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    #[arg(long, short, default_value_t = 60000)]
+    pub port: u16,
+    #[arg(long, short, default_value = "Libero")]
+    pub team: String,
+    #[arg(long, short, default_value_t = 1)]
+    pub unum: u32,
+    /// Built-in robot model (T1, K1, NAO types as nao_type0…4).
+    #[arg(long, default_value = "T1")]
+    pub robot: String,
+    /// A robot model RON file instead of a built-in one.
+    #[arg(long)]
+    pub robot_file: Option<PathBuf>,
+}
+
+pub fn run(args: AgentArgs) -> CliResult {
+    let model = load_robot(&args.robot, args.robot_file.as_ref())?;
+    let mut player = build_player(&model, &args.team, args.unum)?;
+    let shutdown = ctrl_c_flag();
+    run_agent(
+        &AgentConfig::new(&args.host, args.port),
+        &mut player,
+        &shutdown,
+    )?;
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,10 @@
+//! One module per subcommand; shared setup lives in [`setup`].
+
+pub mod agent;
+pub mod matchup;
+pub mod server;
+pub mod setup;
+pub mod team;
+
+/// Errors a command reports to the user: already phrased for them.
+pub type CliResult = Result<std::process::ExitCode, Box<dyn std::error::Error>>;

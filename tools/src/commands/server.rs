@@ -1,0 +1,81 @@
+//! `libero server …`: a local rcssservermj.
+
+use super::setup::ctrl_c_flag;
+use super::CliResult;
+use clap::{Args, Subcommand};
+use libero_server::{ensure_installed, Rules, ServerOptions, ServerProcess};
+use std::process::ExitCode;
+use std::sync::atomic::Ordering;
+
+#[derive(Subcommand)]
+pub enum ServerCommand {
+    /// Install the pinned rcssservermj into the project's virtualenv (first use does it too).
+    Install,
+    /// Start a headless server on 127.0.0.1 and keep it running until Ctrl-C.
+    Start(StartArgs),
+}
+
+#[derive(Args, Clone)]
+pub struct StartArgs {
+    /// Wait for every agent each cycle.
+    #[arg(long)]
+    pub sync: bool,
+    /// Run as fast as the agents answer (implies sync).
+    #[arg(long)]
+    pub no_realtime: bool,
+    #[arg(long, default_value = "ssim")]
+    pub rules: Rules,
+    /// Agent port (default: a free one).
+    #[arg(long)]
+    pub agent_port: Option<u16>,
+    /// Monitor port (default: a free one).
+    #[arg(long)]
+    pub monitor_port: Option<u16>,
+}
+
+impl StartArgs {
+    pub fn options(&self) -> ServerOptions {
+        ServerOptions {
+            sync: self.sync || self.no_realtime,
+            realtime: !self.no_realtime,
+            rules: self.rules,
+            agent_port: self.agent_port,
+            monitor_port: self.monitor_port,
+            work_dir: None,
+        }
+    }
+}
+
+pub fn run(cmd: ServerCommand) -> CliResult {
+    match cmd {
+        ServerCommand::Install => {
+            let install = ensure_installed()?;
+            println!(
+                "rcssservermj installed: {}",
+                install.server_program().display()
+            );
+        }
+        ServerCommand::Start(args) => {
+            let shutdown = ctrl_c_flag();
+            let mut server = ServerProcess::start(args.options())?;
+            println!(
+                "rcssservermj running: agent port {} monitor port {} (log {}); Ctrl-C stops it",
+                server.agent_port,
+                server.monitor_port,
+                server.log_path().display()
+            );
+            while !shutdown.load(Ordering::Relaxed) {
+                if !server.is_running() {
+                    return Err(format!(
+                        "the server stopped on its own; see {}",
+                        server.log_path().display()
+                    )
+                    .into());
+                }
+                std::thread::sleep(std::time::Duration::from_millis(100));
+            }
+            server.stop();
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

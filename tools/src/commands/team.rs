@@ -1,0 +1,59 @@
+//! `libero team`: N players in one process.
+
+use super::setup::{build_player, ctrl_c_flag, load_robot};
+use super::CliResult;
+use clap::Args;
+use libero_agent::{simspark_team_types, AgentConfig, Team};
+use libero_model::ServerKind;
+use std::process::ExitCode;
+use std::sync::atomic::Ordering;
+
+#[derive(Args)]
+pub struct TeamArgs {
+    #[arg(long, short = 'n', default_value_t = 7)]
+    pub players: u32,
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    #[arg(long, short, default_value_t = 60000)]
+    pub port: u16,
+    #[arg(long, short, default_value = "Libero")]
+    pub team: String,
+    /// Built-in robot model: T1 for rcssservermj, NAO for SimSpark (types chosen per the
+    /// server's heterogeneous-team rules).
+    #[arg(long, default_value = "T1")]
+    pub robot: String,
+}
+
+pub fn run(args: TeamArgs) -> CliResult {
+    let shutdown = ctrl_c_flag();
+    let mut players = Vec::new();
+    let simspark = args.robot.eq_ignore_ascii_case("nao");
+    let types = simspark_team_types(args.players as usize);
+    for unum in 1..=args.players {
+        let name = if simspark {
+            format!("nao_type{}", types[unum as usize - 1])
+        } else {
+            args.robot.clone()
+        };
+        let model = load_robot(&name, None)?;
+        if simspark && model.server != ServerKind::SimSpark {
+            return Err(format!("{name} is not a SimSpark robot").into());
+        }
+        players.push(build_player(&model, &args.team, unum)?);
+    }
+    let team = Team::start(
+        &AgentConfig::new(&args.host, args.port),
+        players,
+        shutdown.clone(),
+    );
+    log::info!(
+        "team {} with {} players running; Ctrl-C stops it",
+        args.team,
+        args.players
+    );
+    while !shutdown.load(Ordering::Relaxed) {
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    team.join();
+    Ok(ExitCode::SUCCESS)
+}
