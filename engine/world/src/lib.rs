@@ -1,17 +1,44 @@
-//! The agent's beliefs about itself, the game and (later) the ball and other players.
+//! The agent's beliefs about itself, the game, the ball and the other players.
 //!
-//! Updated once per cycle from a percept, read by decisions and skills. Server ground truth
-//! (`pos`, `quat`) is kept apart in [`GroundTruth`] for logs and tests: nothing that decides
-//! reads it.
+//! Updated once per cycle from a percept ([`World::update`]), read by decisions and skills.
+//!
+//! * [`World::me`] — own torso pose from vision + IMU + leg odometry ([`localization`]).
+//! * [`World::ball`] — ball position, velocity, and predictions ([`ball`], [`ball_motion`]).
+//! * [`World::players`] — teammates and opponents, remembered with their age ([`players`]).
+//! * [`World::body`], [`World::game`] — joints, IMU, posture; play mode, side, score.
+//!
+//! **Frames.** Every estimate is in the server's *global* field frame (origin at the centre
+//! spot, +x towards the right goal, +y to the left of +x, yaw 0 = facing +x), whichever side we
+//! play on. [`World::to_own_frame`] and [`World::yaw_to_own_frame`] turn global values into the
+//! team's own frame (own goal at −x), which for the right team is the global frame turned 180°.
+//!
+//! **Ground truth.** The server's `pos`/`quat` (rcssservermj) are kept apart in
+//! [`GroundTruth`] for logs and tests; no estimate reads them.
+//!
+//! Tunable constants live in `params/world.ron` ([`WorldParams`]).
 
+pub mod ball;
+pub mod ball_motion;
 pub mod body;
+pub mod eval_log;
 pub mod game;
+pub mod geometry;
+pub mod localization;
+pub mod params;
+pub mod players;
 
+pub use ball::BallEstimate;
 pub use body::{BodyState, Posture};
 pub use game::{GameState, PlayMode, Side};
+pub use localization::SelfEstimate;
+pub use params::WorldParams;
+pub use players::{PlayerEstimate, Players, Relation};
 
-use libero_model::RobotModel;
+use libero_model::kinematics::Kinematics;
+use libero_model::{FieldGeometry, RobotModel, ServerKind};
 use libero_protocol::Percept;
+use localization::Localizer;
+use std::sync::Arc;
 
 /// What the server says is true, for evaluation only.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -30,31 +57,142 @@ pub struct World {
     pub cycle: u64,
     pub game: GameState,
     pub body: BodyState,
+    /// Own torso pose (global frame).
+    pub me: SelfEstimate,
+    pub ball: BallEstimate,
+    pub players: Players,
     pub truth: GroundTruth,
+    pub field: Arc<FieldGeometry>,
+    pub params: Arc<WorldParams>,
+    localizer: Localizer,
+    last_time: Option<f64>,
 }
 
 impl World {
+    /// A world on the server's default field: `fifa7vs7` for rcssservermj robots, `simspark`
+    /// for SimSpark robots, with the shipped parameters.
     pub fn new(model: &RobotModel, team: &str, unum: u32) -> Self {
+        let field_name = match model.server {
+            ServerKind::RcssMj => "fifa7vs7",
+            ServerKind::SimSpark => "simspark",
+        };
+        let field = FieldGeometry::builtin(field_name).expect("shipped fields are valid");
+        Self::with_field(model, field, team, unum)
+    }
+
+    /// A world on a given field, with the shipped parameters.
+    pub fn with_field(model: &RobotModel, field: FieldGeometry, team: &str, unum: u32) -> Self {
+        Self::with_params(model, field, WorldParams::builtin(), team, unum)
+    }
+
+    pub fn with_params(
+        model: &RobotModel,
+        field: FieldGeometry,
+        params: WorldParams,
+        team: &str,
+        unum: u32,
+    ) -> Self {
+        let localizer = Localizer::new(model, Kinematics::new(model), params.localization.clone());
         Self {
             time: 0.0,
             cycle: 0,
             game: GameState::new(team, unum),
             body: BodyState::new(model),
+            me: SelfEstimate::default(),
+            ball: BallEstimate::new(&params.ball),
+            players: Players::default(),
             truth: GroundTruth::default(),
+            field: Arc::new(field),
+            params: Arc::new(params),
+            localizer,
+            last_time: None,
         }
     }
 
     /// Fold one percept into the beliefs.
     pub fn update(&mut self, model: &RobotModel, percept: &Percept<'_>) {
         self.cycle += 1;
-        if let Some(t) = percept.time {
+        if let Some(t) = percept.time.filter(|t| t.is_finite()) {
             self.time = t;
         }
+        let dt = self.last_time.map_or(0.0, |before| self.time - before);
+        self.last_time = Some(self.time);
         self.game.update(&percept.game);
         self.body.update(model, percept);
+        self.localizer.update(
+            &self.field,
+            &self.body.joint_angles,
+            percept.gyro,
+            percept.accel,
+            percept.vision.as_ref(),
+            self.time,
+            dt,
+            self.body.posture == Posture::Upright,
+        );
+        self.me = self.localizer.estimate().clone();
+        self.update_ball_and_players(percept);
         self.truth = GroundTruth {
             torso_position: percept.truth_position,
             torso_orientation: percept.truth_orientation,
         };
     }
+
+    fn update_ball_and_players(&mut self, percept: &Percept<'_>) {
+        let vision = percept.vision.as_ref().filter(|_| self.me.localized);
+        let localizer = &self.localizer;
+        let to_field = |p: &nalgebra::Point3<f64>| localizer.camera_to_field(p);
+        let seen_ball = vision
+            .and_then(|v| v.ball.as_ref())
+            .and_then(geometry::polar_to_point)
+            .and_then(|p| to_field(&p));
+        self.ball.update(self.time, seen_ball);
+        for player in vision.map(|v| v.players.as_slice()).unwrap_or_default() {
+            let relation = if player.team == self.game.team {
+                Relation::Teammate
+            } else {
+                Relation::Opponent
+            };
+            if relation == Relation::Teammate && player.unum == self.game.unum {
+                continue;
+            }
+            let parts = players::parts_in_field(&player.parts, to_field);
+            self.players.saw(
+                &self.params.players,
+                relation,
+                player.unum,
+                parts,
+                self.time,
+            );
+        }
+        self.players.forget_old(&self.params.players, self.time);
+    }
+
+    /// A global-frame point in our team's own frame (own goal at −x).
+    pub fn to_own_frame(&self, p: [f64; 2]) -> [f64; 2] {
+        match self.game.side {
+            Some(Side::Right) => [-p[0], -p[1]],
+            _ => p,
+        }
+    }
+
+    /// A global-frame heading [deg] in our team's own frame.
+    pub fn yaw_to_own_frame(&self, yaw_deg: f64) -> f64 {
+        match self.game.side {
+            Some(Side::Right) => geometry::wrap_deg(yaw_deg + 180.0),
+            _ => yaw_deg,
+        }
+    }
+
+    /// Ground-truth torso position and heading [deg], when the server sends them.
+    pub fn truth_pose(&self) -> Option<([f64; 3], f64)> {
+        Some((
+            self.truth.torso_position?,
+            geometry::heading_deg_of_quaternion(self.truth.torso_orientation?),
+        ))
+    }
 }
+
+#[cfg(test)]
+mod synthetic;
+#[cfg(test)]
+mod world_tests;

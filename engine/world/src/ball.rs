@@ -1,0 +1,555 @@
+//! The ball: field position from vision, velocity and acceleration by a least-squares fit over
+//! a short window, and predictions from the motion model ([`crate::ball_motion`]).
+//!
+//! Observations that fit the current trajectory extend its *track*; one that does not (a kick,
+//! a referee placing the ball, our own relocalization) starts a new one. A new track that starts
+//! from a jump is assumed to be a launch without spin: the ball slides until its speed has dropped
+//! to `rolling_speed_ratio` × launch speed, then rolls. Finished roll-outs tune the drag factor.
+
+use crate::ball_motion::BallMotion;
+use crate::params::BallParams;
+use nalgebra::{Vector2, Vector3};
+use std::collections::VecDeque;
+
+/// Observations kept per track (a little more than 2 s of vision at 25 Hz).
+const TRACK_CAPACITY: usize = 64;
+/// Points needed before a track's fit says anything about launch speed or rest.
+const LAUNCH_WINDOW_MIN_POINTS: usize = 3;
+
+/// The agent's belief about the ball (global field frame).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BallEstimate {
+    /// Position on the ground [m], predicted forward to the current cycle when not in view.
+    pub position: [f64; 2],
+    /// Height of the ball centre [m] (0.11 when on the ground).
+    pub height: f64,
+    /// [m/s]
+    pub velocity: [f64; 2],
+    /// Fitted acceleration [m/s²].
+    pub acceleration: [f64; 2],
+    /// Where it will come to rest.
+    pub predicted_stop: [f64; 2],
+    /// Simulation time it was last seen (`None`: never).
+    pub last_seen_time: Option<f64>,
+    /// Seen in the current cycle's vision.
+    pub seen_now: bool,
+    /// Still sliding after a launch (decelerates faster than rolling).
+    pub sliding: bool,
+    /// Learned multiplier of the rolling resistance.
+    pub drag_factor: f64,
+    #[serde(skip)]
+    tracker: Tracker,
+}
+
+#[derive(Debug, Clone)]
+struct Tracker {
+    params: BallParams,
+    motion: BallMotion,
+    observations: VecDeque<(f64, Vector3<f64>)>,
+    /// The fitted state at `fit_time`: what predictions start from.
+    fit_time: f64,
+    fit_position: Vector2<f64>,
+    fit_velocity: Vector2<f64>,
+    /// How the current track started, if it started with a jump (`None`: first sight).
+    launch: Option<Launch>,
+    launch_speed: Option<f64>,
+    /// Set once the track has been seen rolling: (position, speed) at that moment.
+    rolling_start: Option<(Vector2<f64>, f64)>,
+    learned_from_track: bool,
+    /// Where the ball lies while at rest.
+    rest_position: Option<Vector2<f64>>,
+}
+
+impl BallEstimate {
+    pub fn new(params: &BallParams) -> Self {
+        Self {
+            position: [0.0; 2],
+            height: 0.11,
+            velocity: [0.0; 2],
+            acceleration: [0.0; 2],
+            predicted_stop: [0.0; 2],
+            last_seen_time: None,
+            seen_now: false,
+            sliding: false,
+            drag_factor: 1.0,
+            tracker: Tracker {
+                params: params.clone(),
+                motion: BallMotion::new(params, 1.0),
+                observations: VecDeque::with_capacity(TRACK_CAPACITY),
+                fit_time: 0.0,
+                fit_position: Vector2::zeros(),
+                fit_velocity: Vector2::zeros(),
+                launch: None,
+                launch_speed: None,
+                rolling_start: None,
+                learned_from_track: false,
+                rest_position: None,
+            },
+        }
+    }
+
+    /// The motion model with the current drag factor.
+    pub fn motion(&self) -> &BallMotion {
+        &self.tracker.motion
+    }
+
+    /// Seconds since the ball was last seen (infinite if never).
+    pub fn age(&self, now: f64) -> f64 {
+        self.last_seen_time.map_or(f64::INFINITY, |t| now - t)
+    }
+
+    /// One cycle: `seen` is the ball's field position from this cycle's vision, if any.
+    pub fn update(&mut self, time: f64, seen: Option<Vector3<f64>>) {
+        self.seen_now = false;
+        if let Some(p) = seen.filter(|p| p.iter().all(|c| c.is_finite())) {
+            self.observe(time, p);
+            self.seen_now = true;
+            self.last_seen_time = Some(time);
+            self.height = p.z;
+        }
+        self.publish(time);
+    }
+
+    fn observe(&mut self, time: f64, p: Vector3<f64>) {
+        let t = &mut self.tracker;
+        let last = t.observations.back().copied();
+        let predicted = last.map(|_| t.predict_from_fit(time - t.fit_time));
+        // A ball at rest is watched more closely: its first movement dates the launch.
+        let jumped = match t.rest_position {
+            Some(rest) => (p.xy() - rest).norm() > t.params.start_gate,
+            // One point predicts nothing yet (its velocity is unknown).
+            None if t.observations.len() < 2 => false,
+            None => predicted.is_some_and(|q| (q - p.xy()).norm() > t.params.new_track_gate),
+        };
+        let at_rest = t.rest_position.is_some();
+        if jumped || last.is_none() {
+            let mut carried = Vec::new();
+            t.launch = match (last, predicted) {
+                (Some(_), Some(_)) if jumped && at_rest => {
+                    // The frames that had already moved a little belong to the new path.
+                    let origin = t.rest_position.unwrap_or_default();
+                    while t.observations.len() > 1 {
+                        let Some(&(tb, pb)) = t.observations.back() else {
+                            break;
+                        };
+                        if (pb.xy() - origin).norm() <= t.params.start_gate / 3.0 {
+                            break;
+                        }
+                        carried.push((tb, pb));
+                        t.observations.pop_back();
+                    }
+                    let earliest = t.observations.back().map_or(time, |(tb, _)| *tb);
+                    let latest = carried.last().map_or(time, |(tb, _)| *tb);
+                    Some(Launch {
+                        earliest,
+                        latest,
+                        origin,
+                        from_rest: true,
+                    })
+                }
+                // Seen just before: the jump happened between the two frames.
+                (Some((before, _)), Some(origin)) if jumped && time - before < 0.2 => {
+                    Some(Launch {
+                        earliest: before,
+                        latest: time,
+                        origin,
+                        from_rest: false,
+                    })
+                }
+                _ => None,
+            };
+            t.observations.clear();
+            t.observations.extend(carried.into_iter().rev());
+            t.launch_speed = None;
+            t.rest_position = None;
+            t.rolling_start = None;
+            t.learned_from_track = false;
+        }
+        if t.observations.len() == TRACK_CAPACITY {
+            t.observations.pop_front();
+        }
+        t.observations.push_back((time, p));
+        t.fit(time);
+        self.learn_from_rollout();
+    }
+
+    /// When a track that was seen rolling comes to rest, compare how far it rolled with the
+    /// model and move the drag factor towards the observed value.
+    fn learn_from_rollout(&mut self) {
+        let t = &mut self.tracker;
+        let Some((start, speed)) = t.rolling_start else {
+            return;
+        };
+        let at_rest = t.fit_velocity.norm() < t.params.rest_speed;
+        if !at_rest || t.learned_from_track || speed < 0.5 {
+            return;
+        }
+        t.learned_from_track = true;
+        let rolled = (t.fit_position - start).norm();
+        let predicted = t.motion.stop_distance(speed, None);
+        if rolled < 0.3 || !(predicted.is_finite() && predicted > 0.0) {
+            return;
+        }
+        // Rolling distance is roughly inversely proportional to the resistance.
+        let ratio = (predicted / rolled).clamp(0.5, 2.0);
+        let (lo, hi) = t.params.drag_factor_bounds;
+        let factor = (self.drag_factor * ratio.powf(t.params.drag_learning_rate)).clamp(lo, hi);
+        self.drag_factor = factor;
+        t.motion = BallMotion::new(&t.params, factor);
+    }
+
+    fn publish(&mut self, time: f64) {
+        let t = &self.tracker;
+        if t.observations.is_empty() {
+            return;
+        }
+        let dt = time - t.fit_time;
+        let position = t.predict_from_fit(dt);
+        let direction = t.fit_velocity.try_normalize(1e-9).unwrap_or_default();
+        let speed = t.fit_velocity.norm();
+        let rolls_below = t.rolls_below();
+        let progress = t.motion.advance(speed, rolls_below, dt);
+        let remaining = t
+            .motion
+            .stop_distance(progress.speed, t.rolls_below_at(progress.speed));
+        self.position = [position.x, position.y];
+        self.velocity = (direction * progress.speed).into();
+        let decel = t
+            .motion
+            .deceleration(progress.speed, self.sliding_at(progress.speed));
+        self.acceleration = if progress.speed > 0.0 {
+            (-direction * decel).into()
+        } else {
+            [0.0; 2]
+        };
+        self.sliding = self.sliding_at(progress.speed);
+        self.predicted_stop = (position + direction * remaining).into();
+    }
+
+    fn sliding_at(&self, speed: f64) -> bool {
+        self.tracker.rolls_below_at(speed).is_some()
+    }
+
+    /// Position after `dt` more seconds.
+    pub fn predict_position(&self, dt: f64) -> [f64; 2] {
+        let (origin, direction, speed, roll) = self.kinematic_state();
+        let d = self.tracker.motion.advance(speed, roll, dt).distance;
+        (origin + direction * d).into()
+    }
+
+    /// Where and when (seconds from now) the ball path crosses the line through `point` along
+    /// `direction`, before it stops; `None` if it does not.
+    pub fn line_crossing(&self, point: [f64; 2], direction: [f64; 2]) -> Option<(f64, [f64; 2])> {
+        let (origin, heading, speed, roll) = self.kinematic_state();
+        let (q, d) = (Vector2::from(point), Vector2::from(direction));
+        // Solve origin + heading·s = q + d·u for s.
+        let denom = heading.x * d.y - heading.y * d.x;
+        if denom.abs() < 1e-12 || speed <= 0.0 {
+            return None;
+        }
+        let w = q - origin;
+        let s = (w.x * d.y - w.y * d.x) / denom;
+        let time = self.tracker.motion.time_to_cover(speed, roll, s)?;
+        (s >= 0.0).then(|| (time, (origin + heading * s).into()))
+    }
+
+    /// The earliest time (seconds from now) and place where a player at `from`, moving at
+    /// `speed` [m/s] in a straight line, can be within `reach` [m] of the ball.
+    pub fn interception(&self, from: [f64; 2], speed: f64, reach: f64) -> Option<(f64, [f64; 2])> {
+        let (origin, heading, ball_speed, roll) = self.kinematic_state();
+        let from = Vector2::from(from);
+        let motion = &self.tracker.motion;
+        let stop_time = motion.stop_time(ball_speed, roll);
+        let ball_at = |t: f64| origin + heading * motion.advance(ball_speed, roll, t).distance;
+        let can_reach = |t: f64| (ball_at(t) - from).norm() - reach <= speed.max(0.0) * t;
+        // Coarse scan (the gap closes monotonically once the ball is slower than the player),
+        // then bisection for the first reachable moment.
+        const STEP: f64 = 0.05;
+        let mut before = 0.0;
+        if can_reach(0.0) {
+            return Some((0.0, ball_at(0.0).into()));
+        }
+        let mut t = STEP;
+        let horizon = stop_time + 60.0;
+        while t <= horizon {
+            if can_reach(t) {
+                let (mut lo, mut hi) = (before, t);
+                for _ in 0..30 {
+                    let mid = 0.5 * (lo + hi);
+                    if can_reach(mid) {
+                        hi = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+                return Some((hi, ball_at(hi).into()));
+            }
+            before = t;
+            t += if t > stop_time { 1.0 } else { STEP };
+        }
+        None
+    }
+
+    /// (position now, unit heading, speed, rolls_below) of the current prediction.
+    fn kinematic_state(&self) -> (Vector2<f64>, Vector2<f64>, f64, Option<f64>) {
+        let v = Vector2::from(self.velocity);
+        let speed = v.norm();
+        let heading = v.try_normalize(1e-9).unwrap_or_default();
+        (
+            Vector2::from(self.position),
+            heading,
+            speed,
+            self.tracker.rolls_below_at(speed),
+        )
+    }
+}
+
+/// A jump that started the current track.
+#[derive(Debug, Clone, Copy)]
+struct Launch {
+    /// The ball was last seen on the old path then, and first seen on the new one at `latest`.
+    earliest: f64,
+    latest: f64,
+    /// Where the old path put the ball when the jump was seen.
+    origin: Vector2<f64>,
+    /// The ball was lying at `origin` and left it: the new path starts there.
+    from_rest: bool,
+}
+
+impl Launch {
+    /// The launch time: when the fitted path passes the point the ball left, clamped to the
+    /// interval between the two frames (a ball placed elsewhere passes no such point).
+    fn time_on(&self, p: Vector2<f64>, v: Vector2<f64>, a: Vector2<f64>, now: f64) -> f64 {
+        let midpoint = 0.5 * (self.earliest + self.latest);
+        let Some(u) = v.try_normalize(1e-9) else {
+            return midpoint;
+        };
+        // Along the path: s(τ) = v·τ + ½a·τ², looking for s(τ) = s_origin with τ < 0.
+        let (s_origin, speed, accel) = ((self.origin - p).dot(&u), v.norm(), a.dot(&u));
+        let tau = if accel.abs() < 1e-9 {
+            s_origin / speed
+        } else {
+            let disc = speed * speed + 2.0 * accel * s_origin;
+            if disc < 0.0 {
+                return midpoint;
+            }
+            // The root nearer to now (the other is where the parabola turns back).
+            (-speed + disc.sqrt()) / accel
+        };
+        let t = now + tau;
+        if t.is_finite() {
+            t.clamp(self.earliest, self.latest)
+        } else {
+            midpoint
+        }
+    }
+}
+
+/// The model fitted to a young track.
+struct LaunchFit {
+    position: Vector2<f64>,
+    velocity: Vector2<f64>,
+    launch_speed: f64,
+}
+
+impl Tracker {
+    /// Gauss-Newton fit of `s(t) = s0 + D(v_launch, t − t_launch)` along the path to the
+    /// track's observations. From rest, s0 = 0 at the spot the ball left and the launch time is
+    /// free (within the frames around the jump); otherwise the launch time is the fitted guess
+    /// and s0 is free.
+    fn fit_launch(
+        &self,
+        launch: &Launch,
+        time_guess: f64,
+        velocity: Vector2<f64>,
+        now: f64,
+    ) -> Option<LaunchFit> {
+        let last = self.observations.back()?.1.xy();
+        let (start, direction) = if launch.from_rest {
+            (launch.origin, (last - launch.origin).try_normalize(1e-6)?)
+        } else {
+            (
+                self.observations.front()?.1.xy(),
+                velocity.try_normalize(1e-6)?,
+            )
+        };
+        let along: Vec<(f64, f64)> = self
+            .observations
+            .iter()
+            .map(|(t, p)| (*t, (p.xy() - start).dot(&direction)))
+            .collect();
+        let ratio = self.motion.rolling_speed_ratio;
+        let model = |theta: &nalgebra::Vector3<f64>, t: f64| {
+            let (s0, v, t0) = (theta[0], theta[1].max(0.0), theta[2]);
+            s0 + self.motion.advance(v, Some(v * ratio), t - t0).distance
+        };
+        let (t_lo, t_hi) = (launch.earliest - 0.02, launch.latest);
+        let free = if launch.from_rest {
+            [false, true, true]
+        } else {
+            [true, true, false]
+        };
+        let first_speed = velocity.norm().max(0.1);
+        let mut theta = nalgebra::Vector3::new(0.0, first_speed, time_guess.clamp(t_lo, t_hi));
+        for _ in 0..10 {
+            let mut normal = nalgebra::Matrix3::<f64>::zeros();
+            let mut rhs = nalgebra::Vector3::<f64>::zeros();
+            for &(t, s) in &along {
+                let predicted = model(&theta, t);
+                let mut jac = nalgebra::Vector3::zeros();
+                for k in 0..3 {
+                    if free[k] {
+                        let mut shifted = theta;
+                        shifted[k] += 1e-5;
+                        jac[k] = (model(&shifted, t) - predicted) / 1e-5;
+                    }
+                }
+                normal += jac * jac.transpose();
+                rhs += jac * (s - predicted);
+            }
+            for k in 0..3 {
+                if !free[k] {
+                    normal[(k, k)] = 1.0;
+                }
+            }
+            let step = normal.try_inverse()? * rhs;
+            if !step.iter().all(|c| c.is_finite()) {
+                return None;
+            }
+            theta += step;
+            theta[1] = theta[1].max(0.0);
+            theta[2] = theta[2].clamp(t_lo, t_hi);
+            if step.norm() < 1e-7 {
+                break;
+            }
+        }
+        let (v0, t0) = (theta[1], theta[2]);
+        let now_state = self.motion.advance(v0, Some(v0 * ratio), now - t0);
+        Some(LaunchFit {
+            position: start + direction * (theta[0] + now_state.distance),
+            velocity: direction * now_state.speed,
+            launch_speed: v0,
+        })
+    }
+
+    /// The speed below which the current track rolls, if it is still sliding.
+    fn rolls_below(&self) -> Option<f64> {
+        self.launch_speed
+            .map(|v| v * self.motion.rolling_speed_ratio)
+            .filter(|_| self.rolling_start.is_none())
+    }
+
+    fn rolls_below_at(&self, speed: f64) -> Option<f64> {
+        self.rolls_below().filter(|r| *r < speed)
+    }
+
+    fn predict_from_fit(&self, dt: f64) -> Vector2<f64> {
+        let speed = self.fit_velocity.norm();
+        let heading = self.fit_velocity.try_normalize(1e-9).unwrap_or_default();
+        let d = self.motion.advance(speed, self.rolls_below(), dt).distance;
+        self.fit_position + heading * d
+    }
+
+    /// Least-squares fit of position, velocity and acceleration at `now` over the window.
+    fn fit(&mut self, now: f64) {
+        let window = self.params.fit_window_s + 1e-6;
+        let points: Vec<(f64, Vector2<f64>)> = self
+            .observations
+            .iter()
+            .filter(|(t, _)| now - t <= window)
+            .map(|(t, p)| (t - now, p.xy()))
+            .collect();
+        let (position, velocity, acceleration) = fit_polynomial(&points);
+        self.fit_time = now;
+        self.fit_position = position;
+        self.fit_velocity = if velocity.norm() < self.params.rest_speed {
+            Vector2::zeros()
+        } else {
+            velocity
+        };
+        // Shortly after a launch the path crosses from sliding to rolling, which a polynomial
+        // cannot follow: fit the motion model itself (launch speed and time) instead.
+        if let Some(launch) = self.launch {
+            let young = now - launch.latest <= self.params.launch_fit_s;
+            if young && self.observations.len() >= LAUNCH_WINDOW_MIN_POINTS {
+                let guess = launch.time_on(position, velocity, acceleration, now);
+                if let Some(fit) = self.fit_launch(&launch, guess, velocity, now) {
+                    self.fit_position = fit.position;
+                    self.fit_velocity = fit.velocity;
+                    self.launch_speed = Some(fit.launch_speed);
+                }
+            } else if self.launch_speed.is_none() {
+                self.launch_speed = Some(self.fit_velocity.norm());
+            }
+        }
+        let speed = self.fit_velocity.norm();
+        let position = self.fit_position;
+        let settled = points.len() >= LAUNCH_WINDOW_MIN_POINTS && speed == 0.0;
+        if settled && self.rest_position.is_none() {
+            self.rest_position = Some(position);
+        }
+        // Rolling once the speed is down to the rolling speed, or when a track that did not
+        // start with a visible launch decelerates like a rolling ball.
+        if self.rolling_start.is_none() && speed > 0.0 && points.len() >= 4 {
+            let along = -acceleration.dot(&self.fit_velocity) / speed;
+            let threshold = 0.5
+                * (self.motion.deceleration(speed, true) + self.motion.deceleration(speed, false));
+            let launched_rolling = self.rolls_below().is_some_and(|r| speed <= r);
+            let decelerates_like_rolling = self.launch.is_none() && along < threshold;
+            if launched_rolling || decelerates_like_rolling {
+                self.rolling_start = Some((position, speed));
+            }
+        }
+    }
+}
+
+/// Fit `p(τ) = p0 + v·τ + ½a·τ²` to (τ, p) points (τ ≤ 0); falls back to a line with two
+/// points and to the point itself with one.
+fn fit_polynomial(points: &[(f64, Vector2<f64>)]) -> (Vector2<f64>, Vector2<f64>, Vector2<f64>) {
+    let zero = Vector2::zeros();
+    match points {
+        [] => (zero, zero, zero),
+        [(_, p)] => (*p, zero, zero),
+        _ => {
+            let span = points.last().unwrap().0 - points[0].0;
+            let quadratic = points.len() >= 4 && span > 0.1;
+            let n = if quadratic { 3 } else { 2 };
+            let mut normal = nalgebra::Matrix3::<f64>::zeros();
+            let mut rhs = nalgebra::Matrix3x2::<f64>::zeros();
+            for (tau, p) in points {
+                let basis = [1.0, *tau, 0.5 * tau * tau];
+                for i in 0..n {
+                    for j in 0..n {
+                        normal[(i, j)] += basis[i] * basis[j];
+                    }
+                    rhs[(i, 0)] += basis[i] * p.x;
+                    rhs[(i, 1)] += basis[i] * p.y;
+                }
+            }
+            if !quadratic {
+                normal[(2, 2)] = 1.0;
+            }
+            match normal.try_inverse() {
+                Some(inverse) => {
+                    let c = inverse * rhs;
+                    let row = |i: usize| Vector2::new(c[(i, 0)], c[(i, 1)]);
+                    let (p, v, a) = (row(0), row(1), row(2));
+                    if p.iter()
+                        .chain(v.iter())
+                        .chain(a.iter())
+                        .all(|x| x.is_finite())
+                    {
+                        (p, v, a)
+                    } else {
+                        (points.last().unwrap().1, zero, zero)
+                    }
+                }
+                None => (points.last().unwrap().1, zero, zero),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+#[path = "ball_tests.rs"]
+mod tests;

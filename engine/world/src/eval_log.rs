@@ -1,0 +1,89 @@
+//! The evaluation log: one JSON object per cycle with the agent's estimates and, when the server
+//! sends it, the ground truth, so anyone can measure accuracy offline. The truth is only
+//! written here, never read back into an estimate.
+//!
+//! Line format (fields absent when unknown):
+//! `{"time":…, "cycle":…, "team":…, "unum":…, "side":"Left", "play_mode":…,
+//!   "me":{"position":[x,y], "yaw_deg":…, "height":…, "position_sigma":…, "localized":…, …},
+//!   "ball":{"position":[x,y], "velocity":[vx,vy], "predicted_stop":[x,y], "last_seen_time":…, …},
+//!   "players":[{"relation":"Opponent","unum":3,"position":[x,y],…}],
+//!   "truth":{"position":[x,y,z], "yaw_deg":…}}`
+
+use crate::{BallEstimate, PlayerEstimate, SelfEstimate, Side, World};
+use serde::Serialize;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+#[derive(Serialize)]
+struct Truth {
+    position: [f64; 3],
+    yaw_deg: f64,
+}
+
+#[derive(Serialize)]
+struct Record<'a> {
+    time: f64,
+    cycle: u64,
+    team: &'a str,
+    unum: u32,
+    side: Option<Side>,
+    play_mode: &'a str,
+    me: &'a SelfEstimate,
+    ball: Option<&'a BallEstimate>,
+    players: &'a [PlayerEstimate],
+    truth: Option<Truth>,
+}
+
+/// Writes one line per [`EvalLogger::write`] call; flushes on drop.
+pub struct EvalLogger<W: Write = BufWriter<File>> {
+    out: W,
+    buffer: Vec<u8>,
+}
+
+impl EvalLogger<BufWriter<File>> {
+    /// Create (truncate) the log file.
+    pub fn create(path: &Path) -> std::io::Result<Self> {
+        Ok(Self::new(BufWriter::new(File::create(path)?)))
+    }
+}
+
+impl<W: Write> EvalLogger<W> {
+    pub fn new(out: W) -> Self {
+        Self {
+            out,
+            buffer: Vec::with_capacity(2048),
+        }
+    }
+
+    /// Append the current cycle.
+    pub fn write(&mut self, world: &World) -> std::io::Result<()> {
+        let record = Record {
+            time: world.time,
+            cycle: world.cycle,
+            team: &world.game.team,
+            unum: world.game.unum,
+            side: world.game.side,
+            play_mode: &world.game.play_mode_name,
+            me: &world.me,
+            ball: world.ball.last_seen_time.map(|_| &world.ball),
+            players: &world.players.known,
+            truth: world
+                .truth_pose()
+                .map(|(position, yaw_deg)| Truth { position, yaw_deg }),
+        };
+        self.buffer.clear();
+        // Non-finite numbers (an unknown σ) become `null`, keeping every line valid JSON.
+        serde_json::to_writer(&mut self.buffer, &record).map_err(std::io::Error::other)?;
+        self.buffer.push(b'\n');
+        self.out.write_all(&self.buffer)
+    }
+
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+
+    pub fn into_inner(self) -> W {
+        self.out
+    }
+}

@@ -1,0 +1,184 @@
+//! Tunable constants of the world model, read from RON and validated on load
+//! (`engine/world/params/world.ron` is the shipped default).
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Self-localization filter settings (see `params/world.ron` for the meaning of each).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LocalizationParams {
+    pub vision_sigma_floor: f64,
+    pub vision_sigma_per_metre: f64,
+    pub odometry_sigma_per_cycle: f64,
+    pub odometry_sigma_per_metre: f64,
+    pub yaw_sigma_per_cycle_deg: f64,
+    pub outlier_gate: f64,
+    pub relocalize_distance: f64,
+    pub relocalize_yaw_deg: f64,
+    pub relocalize_fit_rms: f64,
+    pub lost_after_rejected_frames: u32,
+    pub gravity_smoothing: f64,
+}
+
+/// Ball tracking and motion-model settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BallParams {
+    pub fit_window_s: f64,
+    pub new_track_gate: f64,
+    pub start_gate: f64,
+    pub launch_fit_s: f64,
+    pub rest_speed: f64,
+    pub sliding_deceleration: f64,
+    pub rolling_deceleration: f64,
+    pub quadratic_drag: f64,
+    pub rolling_speed_ratio: f64,
+    pub drag_learning_rate: f64,
+    pub drag_factor_bounds: (f64, f64),
+}
+
+/// Other players' settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlayerParams {
+    pub fallen_head_height: f64,
+    pub forget_after_s: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorldParams {
+    pub localization: LocalizationParams,
+    pub ball: BallParams,
+    pub players: PlayerParams,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ParamsError {
+    #[error("cannot read {0}: {1}")]
+    Io(String, std::io::Error),
+    #[error("{file}:{line}:{column}: {message}")]
+    Syntax {
+        file: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    #[error("{file}: invalid world parameters:\n  {}", .problems.join("\n  "))]
+    Invalid { file: String, problems: Vec<String> },
+}
+
+const BUILTIN: &str = include_str!("../params/world.ron");
+
+impl WorldParams {
+    /// The shipped defaults (validated by a unit test, so this cannot fail at run time).
+    pub fn builtin() -> Self {
+        Self::from_ron("<builtin>/world.ron", BUILTIN).expect("shipped world.ron is valid")
+    }
+
+    pub fn load(path: &Path) -> Result<Self, ParamsError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| ParamsError::Io(path.display().to_string(), e))?;
+        Self::from_ron(&path.display().to_string(), &text)
+    }
+
+    pub fn from_ron(file: &str, text: &str) -> Result<Self, ParamsError> {
+        let params: WorldParams = ron::from_str(text).map_err(|e| ParamsError::Syntax {
+            file: file.to_string(),
+            line: e.position.line,
+            column: e.position.col,
+            message: e.code.to_string(),
+        })?;
+        let problems = params.problems();
+        if problems.is_empty() {
+            Ok(params)
+        } else {
+            Err(ParamsError::Invalid {
+                file: file.to_string(),
+                problems,
+            })
+        }
+    }
+
+    /// Every value that would make a filter or the motion model misbehave.
+    pub fn problems(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        let l = &self.localization;
+        let b = &self.ball;
+        let mut positive = |name: &str, v: f64| {
+            if !(v.is_finite() && v > 0.0) {
+                problems.push(format!("`{name}` must be a positive number, not {v}"));
+            }
+        };
+        positive("vision_sigma_floor", l.vision_sigma_floor);
+        positive("odometry_sigma_per_cycle", l.odometry_sigma_per_cycle);
+        positive("yaw_sigma_per_cycle_deg", l.yaw_sigma_per_cycle_deg);
+        positive("outlier_gate", l.outlier_gate);
+        positive("relocalize_distance", l.relocalize_distance);
+        positive("relocalize_yaw_deg", l.relocalize_yaw_deg);
+        positive("relocalize_fit_rms", l.relocalize_fit_rms);
+        positive("fit_window_s", b.fit_window_s);
+        positive("new_track_gate", b.new_track_gate);
+        positive("start_gate", b.start_gate);
+        positive("launch_fit_s", b.launch_fit_s);
+        positive("rest_speed", b.rest_speed);
+        positive("sliding_deceleration", b.sliding_deceleration);
+        positive("rolling_deceleration", b.rolling_deceleration);
+        positive("fallen_head_height", self.players.fallen_head_height);
+        positive("forget_after_s", self.players.forget_after_s);
+        let mut non_negative = |name: &str, v: f64| {
+            if !(v.is_finite() && v >= 0.0) {
+                problems.push(format!("`{name}` must be zero or positive, not {v}"));
+            }
+        };
+        non_negative("vision_sigma_per_metre", l.vision_sigma_per_metre);
+        non_negative("odometry_sigma_per_metre", l.odometry_sigma_per_metre);
+        non_negative("quadratic_drag", b.quadratic_drag);
+        non_negative("drag_learning_rate", b.drag_learning_rate);
+        let mut fraction = |name: &str, v: f64| {
+            if !(v.is_finite() && v > 0.0 && v <= 1.0) {
+                problems.push(format!("`{name}` must be in (0, 1], not {v}"));
+            }
+        };
+        fraction("gravity_smoothing", l.gravity_smoothing);
+        fraction("rolling_speed_ratio", b.rolling_speed_ratio);
+        if b.drag_learning_rate > 1.0 {
+            problems.push(format!(
+                "`drag_learning_rate` must be at most 1, not {}",
+                b.drag_learning_rate
+            ));
+        }
+        let (lo, hi) = b.drag_factor_bounds;
+        if !(lo.is_finite() && hi.is_finite() && 0.0 < lo && lo <= 1.0 && 1.0 <= hi) {
+            problems.push(format!(
+                "`drag_factor_bounds` must satisfy 0 < low ≤ 1 ≤ high, not ({lo}, {hi})"
+            ));
+        }
+        if l.lost_after_rejected_frames == 0 {
+            problems.push("`lost_after_rejected_frames` must be at least 1".into());
+        }
+        problems
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shipped_parameters_are_valid() {
+        let p = WorldParams::builtin();
+        assert!(p.problems().is_empty());
+    }
+
+    #[test]
+    fn invalid_values_are_reported_by_name() {
+        let text = BUILTIN
+            .replace("rolling_speed_ratio: 0.7135", "rolling_speed_ratio: 1.5")
+            .replace("outlier_gate: 16.0", "outlier_gate: -1.0");
+        let err = WorldParams::from_ron("w.ron", &text)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("rolling_speed_ratio"), "{err}");
+        assert!(err.contains("outlier_gate"), "{err}");
+        let err = WorldParams::from_ron("w.ron", "WorldParams(").unwrap_err();
+        assert!(matches!(err, ParamsError::Syntax { .. }), "{err}");
+    }
+}
