@@ -1,1 +1,61 @@
-//! Shared helpers for the live tests.
+//! Shared helpers for the live tests: a real server, teams of real agents, waiting on
+//! simulated time.
+
+use libero_agent::{build, AgentConfig, AgentStats, Team};
+use libero_model::RobotModel;
+use libero_server::{ServerOptions, ServerProcess};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Log to the test output (shown for failing tests).
+pub fn init_logging() {
+    let _ = env_logger::builder().is_test(true).filter_level(log::LevelFilter::Info).try_init();
+}
+
+/// A real rcssservermj in fast mode (`--sync --no-realtime`) on free loopback ports.
+pub fn fast_server() -> ServerProcess {
+    init_logging();
+    ServerProcess::start(ServerOptions::default()).expect("starting rcssservermj")
+}
+
+pub fn t1() -> Arc<RobotModel> {
+    Arc::new(RobotModel::builtin("T1").unwrap())
+}
+
+/// A team of standing T1 players numbered 1…n, joined one by one.
+pub fn standing_team(port: u16, team: &str, n: u32) -> (Team, Arc<AtomicBool>) {
+    let model = t1();
+    let players = (1..=n).map(|u| build::standing_player(&model, team, u).unwrap()).collect();
+    let shutdown = Arc::new(AtomicBool::new(false));
+    let config = AgentConfig::new("127.0.0.1", port);
+    (Team::start(&config, players, Arc::clone(&shutdown)), shutdown)
+}
+
+/// Server time [s] an agent last saw.
+pub fn sim_time(stats: &AgentStats) -> f64 {
+    AgentStats::get(&stats.last_time_ms) as f64 / 1000.0
+}
+
+/// Wait until `seconds` of simulated time have passed for `stats`' agent (bounded by a
+/// generous wall-clock limit so a stalled server fails the test instead of hanging it).
+pub fn wait_sim_seconds(stats: &AgentStats, seconds: f64) {
+    let start = sim_time(stats);
+    let deadline = Instant::now() + Duration::from_secs_f64(60.0 + seconds * 4.0);
+    while sim_time(stats) < start + seconds {
+        assert!(Instant::now() < deadline, "simulated time stalled at {}", sim_time(stats));
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+/// Wait for a condition with a wall-clock limit; returns how long it took.
+pub fn wait_until(limit: Duration, mut pred: impl FnMut() -> bool) -> Option<Duration> {
+    let start = Instant::now();
+    while start.elapsed() < limit {
+        if pred() {
+            return Some(start.elapsed());
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    None
+}

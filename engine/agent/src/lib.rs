@@ -8,6 +8,7 @@
 //! agents in one process.
 
 pub mod actuate;
+pub mod build;
 pub mod connection;
 pub mod decide;
 pub mod player;

@@ -140,16 +140,18 @@ impl Player {
     fn count_missed(&mut self, before: f64) {
         let now = self.world.time;
         if self.world.cycle > 1 && now > before {
-            let gap = ((now - before) / CYCLE_S).round() as u64;
+            // Server times are truncated to 2 decimals, so one cycle can read as 0.01–0.03 s;
+            // only a step of 0.04 s or more is a skipped cycle.
+            let gap = ((now - before + 0.005) / CYCLE_S).floor() as u64;
             if gap > 1 {
-                self.stats
-                    .missed_cycles
-                    .fetch_add(gap - 1, Ordering::Relaxed);
+                log::debug!("agent {}: server time jumped {before:.2} → {now:.2}", self.world.game.unum);
+                self.stats.missed_cycles.fetch_add(gap - 1, Ordering::Relaxed);
             }
         }
-        self.stats
-            .last_time_ms
-            .store((now * 1000.0) as u64, Ordering::Relaxed);
+        self.stats.last_time_ms.store((now * 1000.0) as u64, Ordering::Relaxed);
+        if let Ok(mut truth) = self.stats.truth_position.lock() {
+            *truth = self.world.truth.torso_position;
+        }
     }
 }
 
@@ -218,9 +220,10 @@ mod tests {
     fn time_gaps_count_as_missed_cycles() {
         let mut player = t1_player();
         let mut out = Vec::new();
-        for t in ["1.00", "1.02", "1.08"] {
+        for t in ["1.00", "1.02", "1.05", "1.06", "1.11"] {
             player.on_percept(format!("(time (now {t}))").as_bytes(), &mut out);
         }
-        assert_eq!(AgentStats::get(&player.stats.missed_cycles), 2);
+        // 1.02 → 1.05 is one truncated cycle; 1.06 → 1.11 skips one.
+        assert_eq!(AgentStats::get(&player.stats.missed_cycles), 1);
     }
 }

@@ -17,6 +17,10 @@ pub struct AgentConfig {
     pub silence_timeout: Duration,
     /// Stop after this many failed connection attempts in a row (`None`: keep trying).
     pub max_connect_failures: Option<u32>,
+    /// Pause between connecting and the first message. rcsssmj 0.2.1 crashes when an agent
+    /// is activated before the simulation's first step, which is what happens when agents
+    /// retrying in a loop reach a server the moment it starts listening.
+    pub greeting_delay: Duration,
 }
 
 impl AgentConfig {
@@ -26,6 +30,7 @@ impl AgentConfig {
             port,
             silence_timeout: Duration::from_secs(10),
             max_connect_failures: None,
+            greeting_delay: Duration::from_millis(150),
         }
     }
 }
@@ -43,7 +48,7 @@ pub enum AgentError {
 }
 
 const BACKOFF_START: Duration = Duration::from_millis(50);
-const BACKOFF_MAX: Duration = Duration::from_millis(500);
+const BACKOFF_MAX: Duration = Duration::from_millis(200);
 
 /// Run `player` until `shutdown` is set. Every percept is answered at once with exactly one
 /// frame. Lost connections are retried with a short backoff, so agents are back within a
@@ -88,6 +93,7 @@ pub fn run_agent(
         failures = 0;
         AgentStats::bump(&player.stats().connections);
         player.reset_connection();
+        sleep_unless_shutdown(config.greeting_delay, shutdown);
         match player.greeting() {
             Ok(hello) => {
                 if let Err(e) = conn.send(&hello) {

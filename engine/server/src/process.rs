@@ -1,5 +1,6 @@
 //! Starting and stopping one rcssservermj process.
 
+use crate::monitor::Monitor;
 use crate::venv::{ensure_installed, Installation};
 use crate::ServerError;
 use std::io::Read;
@@ -79,6 +80,7 @@ impl Default for ServerOptions {
 /// A running server that this process started. Dropping it stops the server.
 pub struct ServerProcess {
     child: Option<Child>,
+    monitor: Option<Monitor>,
     install: Installation,
     options: ServerOptions,
     pub agent_port: u16,
@@ -101,6 +103,7 @@ impl ServerProcess {
             .map_err(|e| ServerError::Io(work_dir.display().to_string(), e))?;
         let mut server = Self {
             child: None,
+            monitor: None,
             install,
             options,
             agent_port,
@@ -151,6 +154,7 @@ impl ServerProcess {
             log_path.display()
         );
         self.child = Some(child);
+        self.monitor = None;
         self.wait_ready()
     }
 
@@ -188,25 +192,30 @@ impl ServerProcess {
 
     /// rcsssmj 0.2.1 crashes (audio engine, `a_forward`) when an agent is activated before
     /// the simulation's first step. A monitor frame is sent only after a step, so the first
-    /// one proves it is safe to let agents in.
+    /// one proves it is safe to let agents in. The monitor connection then stays open for the
+    /// server's whole life: closing a monitor socket can kill the server's simulation thread
+    /// (it keeps writing to the closed socket).
     fn wait_first_step(&mut self, start: Instant) -> Result<(), ServerError> {
         while start.elapsed() < START_TIMEOUT {
-            if let Ok(stream) = std::net::TcpStream::connect(("127.0.0.1", self.monitor_port)) {
-                let _ = stream.set_read_timeout(Some(Duration::from_secs(5)));
-                let mut frames = libero_protocol::FrameReader::with_limit(stream, 64 << 20);
-                if frames.read_frame().is_ok() {
+            if self.monitor.is_none() {
+                self.monitor = Monitor::connect(self.monitor_port).ok();
+            }
+            if let Some(monitor) = &self.monitor {
+                if monitor.snapshot().frames > 0 {
                     return Ok(());
                 }
             }
             if !self.is_running() {
                 break;
             }
-            std::thread::sleep(Duration::from_millis(20));
+            std::thread::sleep(Duration::from_millis(10));
         }
-        Err(ServerError::StartTimeout(
-            START_TIMEOUT.as_secs(),
-            self.log_path().display().to_string(),
-        ))
+        Err(ServerError::StartTimeout(START_TIMEOUT.as_secs(), self.log_path().display().to_string()))
+    }
+
+    /// The server's monitor connection (kick-off, ball placement, game state).
+    pub fn monitor(&mut self) -> &mut Monitor {
+        self.monitor.as_mut().expect("a started server has a monitor")
     }
 
     /// Whether the process is still running.

@@ -4,7 +4,7 @@ use super::setup::{build_player, ctrl_c_flag, load_robot};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{AgentConfig, AgentStats, Team};
-use libero_server::{Monitor, Rules, ServerOptions, ServerProcess};
+use libero_server::{Rules, ServerOptions, ServerProcess};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
@@ -42,15 +42,15 @@ pub fn run(args: MatchArgs) -> CliResult {
         "starting rcssservermj ({} mode)…",
         if args.realtime { "real-time" } else { "fast" }
     );
-    let server = ServerProcess::start(ServerOptions {
+    let mut server = ServerProcess::start(ServerOptions {
         sync: !args.realtime,
         realtime: args.realtime,
         rules: args.rules,
         ..ServerOptions::default()
     })?;
-    let mut monitor = Monitor::connect(server.monitor_port)?;
     let model = load_robot("T1", None)?;
     let config = AgentConfig::new("127.0.0.1", server.agent_port);
+    let monitor = server.monitor();
     let mut teams = Vec::new();
     for name in [&args.left, &args.right] {
         let players = (1..=args.players)
