@@ -3,9 +3,31 @@
 /// The body's task this cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum BodyIntent {
-    /// Hold the stand posture in balance.
+    /// Hold the stand posture in balance (a walk in progress first steps the feet together).
     #[default]
     Stand,
+    /// Walk with this velocity in the robot's own frame (x forwards, y left). Values beyond the
+    /// parameter file's limits are clamped; the executed command follows within its
+    /// acceleration limits, so the decision layer may change it every cycle.
+    Walk {
+        forward_m_s: f64,
+        sideways_m_s: f64,
+        turn_deg_s: f64,
+    },
+    /// Walk to a pose given relative to the robot: `target` = (x forwards, y left) [m] and the
+    /// final `heading_deg` relative to the current heading. Stops (and stands) once there.
+    /// Callers holding a field pose convert it to the robot frame each cycle.
+    WalkTo { target: [f64; 2], heading_deg: f64 },
+    /// Kick the ball at `ball` = (x, y) [m] in the robot frame towards `direction_deg` (robot
+    /// frame, + left) over about `distance_m`. The skill walks to its kicking place behind the
+    /// ball from wherever the robot is, then kicks with the better foot.
+    Kick {
+        ball: [f64; 2],
+        direction_deg: f64,
+        distance_m: f64,
+    },
+    /// Stand up from lying. Also done automatically whenever the fall detector reports a fall.
+    GetUp,
 }
 
 /// The head's task this cycle.

@@ -1,36 +1,90 @@
 //! Low-level skills. Each turns an [`Intent`] and the world state into joint targets for the
 //! next cycle; none of them decides *what* to do (that is the behavior tree's job).
+//!
+//! Switching between skills blends the joint targets over the walk's `settle_s`, so no skill
+//! has to start from an exact posture.
 
 pub mod intent;
 pub mod params;
 pub mod pose;
+pub mod walk;
 
 pub use intent::{BodyIntent, HeadIntent, Intent};
 pub use params::{ParamsError, SkillParams};
 pub use pose::{JointTarget, JointTargets};
+pub use walk::{Velocity, Walk, WalkParams};
 
 use libero_model::RobotModel;
 use libero_world::World;
+
+/// Which skill produced the latest targets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActiveSkill {
+    Stand,
+    Walk,
+}
+
+/// A blend from the previous skill's last pose into the current skill's output.
+#[derive(Debug, Clone)]
+struct Blend {
+    from: Vec<f64>,
+    start_s: f64,
+    duration_s: f64,
+}
 
 /// The skill layer of one agent.
 pub struct Skills {
     params: SkillParams,
     stand: Vec<f64>,
+    walk: Walk,
+    active: ActiveSkill,
+    blend: Option<Blend>,
+    /// The pose sent last cycle [deg per joint].
+    last_pose: Vec<f64>,
+    pose: Vec<f64>,
 }
 
 impl Skills {
     pub fn new(model: &RobotModel, params: SkillParams) -> Result<Self, ParamsError> {
+        params.validate(model)?;
         let stand = params.stand_pose(model)?;
-        Ok(Self { params, stand })
+        Ok(Self {
+            walk: Walk::new(model)?,
+            params,
+            last_pose: stand.clone(),
+            pose: stand.clone(),
+            stand,
+            active: ActiveSkill::Stand,
+            blend: None,
+        })
     }
 
     pub fn params(&self) -> &SkillParams {
         &self.params
     }
 
+    /// Swap in new parameters (hot reload, optimizer trials). The stand pose follows at once;
+    /// the walk picks the new numbers up from its next cycle.
+    pub fn set_params(&mut self, model: &RobotModel, params: SkillParams) -> Result<(), ParamsError> {
+        params.validate(model)?;
+        self.stand = params.stand_pose(model)?;
+        self.params = params;
+        Ok(())
+    }
+
     /// The stand posture [deg per joint].
     pub fn stand_pose(&self) -> &[f64] {
         &self.stand
+    }
+
+    /// The skill that produced the latest targets.
+    pub fn active(&self) -> ActiveSkill {
+        self.active
+    }
+
+    /// The walk engine (for its executed command and state).
+    pub fn walk(&self) -> &Walk {
+        &self.walk
     }
 
     /// Joint targets realising `intent` this cycle.
@@ -41,10 +95,41 @@ impl Skills {
         intent: &Intent,
         out: &mut JointTargets,
     ) {
-        out.hold_pose(model, &self.stand);
-        match intent.body {
-            BodyIntent::Stand => {}
+        self.pose.copy_from_slice(&self.stand);
+        let walk_params = &self.params.walk;
+        let request = match intent.body {
+            BodyIntent::Stand | BodyIntent::GetUp | BodyIntent::Kick { .. } => None,
+            BodyIntent::Walk {
+                forward_m_s,
+                sideways_m_s,
+                turn_deg_s,
+            } => Some(Velocity {
+                forward_m_s,
+                sideways_m_s,
+                turn_deg_s,
+            }),
+            BodyIntent::WalkTo {
+                target,
+                heading_deg,
+            } => walk::walk_to::velocity_towards(target, heading_deg, walk_params),
+        };
+        let active = if request.is_some() || self.walk.is_stepping() {
+            self.walk.update(world, request, walk_params, &mut self.pose);
+            ActiveSkill::Walk
+        } else {
+            ActiveSkill::Stand
+        };
+        self.switch_to(active, world.time);
+        self.apply_blend(world.time);
+        out.hold_pose(model, &self.pose);
+        if self.active == ActiveSkill::Walk {
+            for (joint, g) in &self.params.walk.leg_gains {
+                for side in ["left", "right"] {
+                    out.set_gains(model, &format!("{side}_{joint}"), g.kp, g.kd);
+                }
+            }
         }
+        self.last_pose.copy_from_slice(&self.pose);
         match intent.head {
             HeadIntent::Hold => {}
             HeadIntent::LookAround => {
@@ -53,6 +138,35 @@ impl Skills {
                 out.set_angle(model, "head_yaw", la.yaw_amplitude_deg * phase.sin());
                 out.set_angle(model, "head_pitch", la.pitch_deg);
             }
+        }
+    }
+
+    fn switch_to(&mut self, active: ActiveSkill, now: f64) {
+        if active != self.active {
+            self.blend = Some(Blend {
+                from: self.last_pose.clone(),
+                start_s: now,
+                duration_s: self.params.walk.settle_s,
+            });
+            self.active = active;
+        }
+    }
+
+    fn apply_blend(&mut self, now: f64) {
+        let Some(blend) = &self.blend else { return };
+        let t = if blend.duration_s > 0.0 {
+            ((now - blend.start_s) / blend.duration_s).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        if t >= 1.0 {
+            self.blend = None;
+            return;
+        }
+        // Smoothstep: no jump in joint velocity at either end of the blend.
+        let w = t * t * (3.0 - 2.0 * t);
+        for (q, from) in self.pose.iter_mut().zip(&blend.from) {
+            *q = from + (*q - from) * w;
         }
     }
 }

@@ -1,11 +1,12 @@
 //! Skill parameters as RON data, checked against the robot model on load.
 
+use crate::walk::WalkParams;
 use libero_model::RobotModel;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// Head scanning.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct LookAround {
     pub yaw_amplitude_deg: f64,
     pub period_s: f64,
@@ -13,13 +14,14 @@ pub struct LookAround {
 }
 
 /// Every tunable number of the skills for one robot.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct SkillParams {
     /// The robot model these numbers are for.
     pub robot: String,
     /// Stand posture: joint name → angle [deg]; unlisted joints are 0.
     pub stand: BTreeMap<String, f64>,
     pub look_around: LookAround,
+    pub walk: WalkParams,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -35,6 +37,10 @@ pub enum ParamsError {
     Invalid { file: String, message: String },
     #[error("no built-in skill parameters for robot `{0}`")]
     NoBuiltin(String),
+    #[error("the skills cannot drive this robot: {0}")]
+    Kinematics(#[from] libero_model::kinematics::KinematicsError),
+    #[error("{0}: {1}")]
+    Io(String, std::io::Error),
 }
 
 const BUILTIN: &[(&str, &str)] = &[("T1", include_str!("../params/t1.ron"))];
@@ -60,7 +66,7 @@ impl SkillParams {
             column: e.position.col,
             message: e.code.to_string(),
         })?;
-        params.stand_pose(model).map_err(|e| match e {
+        params.validate(model).map_err(|e| match e {
             ParamsError::Invalid { message, .. } => ParamsError::Invalid {
                 file: file.into(),
                 message,
@@ -68,6 +74,30 @@ impl SkillParams {
             other => other,
         })?;
         Ok(params)
+    }
+
+    /// Read and check a parameter file.
+    pub fn load(path: &std::path::Path, model: &RobotModel) -> Result<Self, ParamsError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| ParamsError::Io(path.display().to_string(), e))?;
+        Self::from_ron(&path.display().to_string(), &text, model)
+    }
+
+    /// The parameters as RON text (for writing tuned values back).
+    pub fn to_ron(&self) -> String {
+        let config = ron::ser::PrettyConfig::new().depth_limit(3).struct_names(true);
+        ron::ser::to_string_pretty(self, config).expect("skill parameters always serialise")
+    }
+
+    /// Every check that does not need the file name; errors name the offending field.
+    pub fn validate(&self, model: &RobotModel) -> Result<(), ParamsError> {
+        self.stand_pose(model)?;
+        let invalid = |message: String| ParamsError::Invalid {
+            file: String::new(),
+            message,
+        };
+        self.walk.validate().map_err(invalid)?;
+        Ok(())
     }
 
     /// The stand pose as one angle per model joint.
@@ -114,15 +144,38 @@ mod tests {
     #[test]
     fn unknown_joints_and_out_of_range_angles_are_rejected() {
         let t1 = RobotModel::builtin("T1").unwrap();
-        let text = r#"SkillParams(robot: "T1", stand: {"left_kne": 1.0}, look_around: LookAround(yaw_amplitude_deg: 1.0, period_s: 1.0, pitch_deg: 0.0))"#;
-        let e = SkillParams::from_ron("x.ron", text, &t1)
+        let shipped = include_str!("../params/t1.ron");
+        let text = shipped.replacen("\"left_knee\": 24.0", "\"left_kne\": 1.0", 1);
+        let e = SkillParams::from_ron("x.ron", &text, &t1)
             .unwrap_err()
             .to_string();
         assert!(e.contains("`left_kne` is not a joint"), "{e}");
-        let text = text.replace("left_kne\": 1.0", "left_knee\": -5.0");
+        let text = shipped.replacen("\"left_knee\": 24.0", "\"left_knee\": -5.0", 1);
         let e = SkillParams::from_ron("x.ron", &text, &t1)
             .unwrap_err()
             .to_string();
         assert!(e.contains("outside its limits"), "{e}");
+        let text = shipped.replacen("step_period_s: ", "step_period_s: 5.0, _was: ", 1);
+        let e = SkillParams::from_ron("x.ron", &text, &t1)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("x.ron:"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_walk_numbers_name_their_field() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let mut p = SkillParams::builtin(&t1).unwrap();
+        p.walk.step_period_s = 5.0;
+        let e = p.validate(&t1).unwrap_err().to_string();
+        assert!(e.contains("walk.step_period_s = 5 is outside"), "{e}");
+    }
+
+    #[test]
+    fn parameters_survive_a_round_trip_through_ron() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = SkillParams::builtin(&t1).unwrap();
+        let again = SkillParams::from_ron("again.ron", &p.to_ron(), &t1).unwrap();
+        assert_eq!(p, again);
     }
 }

@@ -35,6 +35,14 @@ impl JointTargets {
             }));
     }
 
+    /// Set one joint's gains by name; unknown names are ignored like in [`Self::set_angle`].
+    pub fn set_gains(&mut self, model: &RobotModel, joint: &str, kp: f64, kd: f64) {
+        if let Some(t) = model.joint_id(joint).and_then(|id| self.joints.get_mut(id)) {
+            t.kp = kp;
+            t.kd = kd;
+        }
+    }
+
     /// Set one joint's target angle by name, clamped to its limits. Unknown names are ignored
     /// (skill parameter files are validated against the model when loaded).
     pub fn set_angle(&mut self, model: &RobotModel, joint: &str, q_deg: f64) {

@@ -1,0 +1,248 @@
+//! Omnidirectional walk: velocity command → step pattern → leg IK → IMU corrections.
+//!
+//! [`gait`] places the soles step by step in a level frame that moves with the torso;
+//! [`Walk`] turns those placements into joint angles with the model's leg IK and adds the
+//! balance loop of [`balance`]. The executed command follows the requested one within the
+//! acceleration limits of the parameter file, and a new command only shapes the next step,
+//! so changes mid-walk are smooth. Starting blends into the walk posture and shifts weight
+//! before the first lift; stopping walks the feet back together before the walk goes idle.
+
+pub mod balance;
+pub mod gait;
+pub mod params;
+pub mod walk_to;
+
+use balance::{corrections, Attitude};
+use gait::{Foot, Gait, SolePlacement, Step};
+use libero_model::kinematics::{Kinematics, KinematicsError, LegIk, Side};
+use libero_model::{JointId, RobotModel};
+use libero_world::World;
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+pub use params::{BalanceParams, WalkParams, WalkToParams};
+
+/// A walk command in the robot's own frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Velocity {
+    /// [m/s], + forwards
+    pub forward_m_s: f64,
+    /// [m/s], + to the left
+    pub sideways_m_s: f64,
+    /// [deg/s], + counter-clockwise (to the left)
+    pub turn_deg_s: f64,
+}
+
+impl Velocity {
+    fn is_zero(&self) -> bool {
+        self.forward_m_s.abs() < 1e-4 && self.sideways_m_s.abs() < 1e-4 && self.turn_deg_s.abs() < 1e-2
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Phase {
+    /// Holding the walk posture, not stepping.
+    Idle,
+    /// Holding the walk posture until the blend into it is done [s left].
+    Settling(f64),
+    Walking,
+}
+
+/// The joints the walk touches besides the IK's six per leg.
+#[derive(Debug, Clone, Copy)]
+struct LegJoints {
+    hip_pitch: JointId,
+    hip_roll: JointId,
+    ankle_pitch: JointId,
+    ankle_roll: JointId,
+    shoulder_pitch: Option<JointId>,
+}
+
+impl LegJoints {
+    fn find(model: &RobotModel, side: &str) -> Result<Self, KinematicsError> {
+        let id = |short: &str| {
+            let name = format!("{side}_{short}");
+            model.joint_id(&name).ok_or(KinematicsError::UnknownJoint(name))
+        };
+        Ok(Self {
+            hip_pitch: id("hip_pitch")?,
+            hip_roll: id("hip_roll")?,
+            ankle_pitch: id("ankle_pitch")?,
+            ankle_roll: id("ankle_roll")?,
+            shoulder_pitch: id("shoulder_pitch").ok(),
+        })
+    }
+}
+
+/// The walk engine of one robot.
+pub struct Walk {
+    kin: Kinematics,
+    legs: [LegIk; 2],
+    joints: [LegJoints; 2],
+    gait: Gait,
+    phase: Phase,
+    /// The command being executed (the request, rate-limited).
+    executed: Velocity,
+    last_time: Option<f64>,
+    /// The latest joint solution, reused as the IK's starting point.
+    angles: Vec<f64>,
+}
+
+/// Server cycle [s], used when the percept carries no usable time step.
+const NOMINAL_CYCLE_S: f64 = 0.02;
+
+impl Walk {
+    pub fn new(model: &RobotModel) -> Result<Self, KinematicsError> {
+        let kin = Kinematics::new(model);
+        let legs = [
+            LegIk::new(model, &kin, Side::Left)?,
+            LegIk::new(model, &kin, Side::Right)?,
+        ];
+        Ok(Self {
+            joints: [LegJoints::find(model, "left")?, LegJoints::find(model, "right")?],
+            kin,
+            legs,
+            gait: Gait::default(),
+            phase: Phase::Idle,
+            executed: Velocity::default(),
+            last_time: None,
+            angles: vec![0.0; model.joints.len()],
+        })
+    }
+
+    /// True while steps are being made (including the closing steps after a stop request).
+    pub fn is_stepping(&self) -> bool {
+        self.phase == Phase::Walking
+    }
+
+    /// The command currently executed (after rate limits).
+    pub fn executed(&self) -> Velocity {
+        self.executed
+    }
+
+    /// Forget any motion in progress (after a fall or a beam).
+    pub fn reset(&mut self) {
+        self.phase = Phase::Idle;
+        self.gait = Gait::default();
+        self.executed = Velocity::default();
+    }
+
+    /// One cycle. `request` = walk with this velocity; `None` = come to a stop. Writes the leg
+    /// (and arm swing) angles into `pose`, leaving other joints as they are.
+    pub fn update(
+        &mut self,
+        world: &World,
+        request: Option<Velocity>,
+        p: &WalkParams,
+        pose: &mut [f64],
+    ) {
+        let dt = match self.last_time {
+            Some(t) if world.time > t && world.time - t < 0.1 => world.time - t,
+            _ => NOMINAL_CYCLE_S,
+        };
+        self.last_time = Some(world.time);
+        let wanted = request.map(|v| clamp_command(v, p)).unwrap_or_default();
+        match self.phase {
+            Phase::Idle if request.is_some() => self.phase = Phase::Settling(p.settle_s),
+            Phase::Idle => {}
+            Phase::Settling(left) if left > dt => self.phase = Phase::Settling(left - dt),
+            Phase::Settling(_) => {
+                self.phase = Phase::Walking;
+                self.executed = Velocity::default();
+                // Weight shift first: a step without lift, led by the foot on the side the
+                // command goes to.
+                let first = if wanted.sideways_m_s < 0.0 || wanted.turn_deg_s < 0.0 {
+                    Foot::Right
+                } else {
+                    Foot::Left
+                };
+                self.gait.begin_step(first, Step::default(), 0.0);
+            }
+            Phase::Walking => {
+                self.executed = rate_limit(self.executed, wanted, p, dt);
+                if self.gait.advance(dt, p.step_period_s) {
+                    if request.is_none() && self.executed.is_zero() && self.gait.feet_together() {
+                        self.phase = Phase::Idle;
+                    } else {
+                        let step = Step {
+                            x: self.executed.forward_m_s * p.step_period_s,
+                            y: self.executed.sideways_m_s * p.step_period_s,
+                            yaw_deg: self.executed.turn_deg_s * p.step_period_s,
+                        };
+                        self.gait.begin_step(self.gait.swing.other(), step, 1.0);
+                    }
+                }
+            }
+        }
+        let placements = if self.phase == Phase::Walking {
+            self.gait.placements(p)
+        } else {
+            Gait::default().placements_at_rest(p)
+        };
+        self.solve(world, &placements, p, pose);
+    }
+
+    fn solve(&mut self, world: &World, soles: &[SolePlacement; 2], p: &WalkParams, pose: &mut [f64]) {
+        let level_to_torso = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -p.torso_lean_deg.to_radians());
+        self.angles.copy_from_slice(pose);
+        for (leg, sole) in self.legs.iter().zip(soles) {
+            let in_level = Isometry3::from_parts(
+                Translation3::new(sole.x, sole.y, sole.z),
+                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), sole.yaw_deg.to_radians()),
+            );
+            let in_torso = Isometry3::from_parts(Translation3::identity(), level_to_torso) * in_level;
+            // The IK never writes NaN and returns the closest pose when out of reach, which
+            // is the best the robot can do; an error only means a non-finite target.
+            if let Err(e) = leg.solve(&self.kin, &in_torso, &mut self.angles) {
+                log::warn!("walk: leg IK failed: {e}");
+            }
+        }
+        let attitude = Attitude::from_body(&world.body);
+        let c = if self.phase == Phase::Walking {
+            corrections(&p.balance, &attitude, p.torso_lean_deg)
+        } else {
+            Default::default()
+        };
+        for (k, j) in self.joints.iter().enumerate() {
+            self.angles[j.ankle_pitch] += c.ankle_pitch;
+            self.angles[j.hip_pitch] += c.hip_pitch;
+            self.angles[j.ankle_roll] += c.ankle_roll;
+            self.angles[j.hip_roll] += c.hip_roll;
+            // Arms swing with the opposite leg, as in human gait, to cancel the legs' yaw moment.
+            if let Some(shoulder) = j.shoulder_pitch {
+                let other_foot_x = soles[1 - k].x - p.foot_x_offset_m;
+                self.angles[shoulder] = pose[shoulder] - p.arm_swing_deg_per_m * other_foot_x;
+            }
+        }
+        pose.copy_from_slice(&self.angles);
+    }
+}
+
+impl Gait {
+    /// Both soles at their neutral places, flat on the ground.
+    pub fn placements_at_rest(&self, p: &WalkParams) -> [SolePlacement; 2] {
+        [Foot::Left, Foot::Right].map(|foot| SolePlacement {
+            x: p.foot_x_offset_m,
+            y: foot.sign() * p.foot_y_offset_m,
+            z: -p.torso_height_m,
+            yaw_deg: 0.0,
+        })
+    }
+}
+
+/// The request within the parameter file's speed limits.
+pub fn clamp_command(v: Velocity, p: &WalkParams) -> Velocity {
+    Velocity {
+        forward_m_s: v.forward_m_s.clamp(-p.max_backward_m_s, p.max_forward_m_s),
+        sideways_m_s: v.sideways_m_s.clamp(-p.max_sideways_m_s, p.max_sideways_m_s),
+        turn_deg_s: v.turn_deg_s.clamp(-p.max_turn_deg_s, p.max_turn_deg_s),
+    }
+}
+
+/// Move `from` towards `to` by at most one cycle's worth of each acceleration limit.
+fn rate_limit(from: Velocity, to: Velocity, p: &WalkParams, dt: f64) -> Velocity {
+    let towards = |a: f64, b: f64, max_step: f64| a + (b - a).clamp(-max_step, max_step);
+    Velocity {
+        forward_m_s: towards(from.forward_m_s, to.forward_m_s, p.accel_forward_m_s2 * dt),
+        sideways_m_s: towards(from.sideways_m_s, to.sideways_m_s, p.accel_sideways_m_s2 * dt),
+        turn_deg_s: towards(from.turn_deg_s, to.turn_deg_s, p.accel_turn_deg_s2 * dt),
+    }
+}

@@ -1,0 +1,38 @@
+//! Walking to a pose given relative to the robot: a proportional controller on distance and
+//! heading that faces the target when far away and walks omnidirectionally when near.
+
+use super::params::WalkParams;
+use super::Velocity;
+
+/// The command that brings the robot to `target` = (x, y) [m] in its own frame (x forwards,
+/// y left) with final heading `heading_deg` relative to its current heading; `None` once there.
+pub fn velocity_towards(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> Option<Velocity> {
+    let t = &p.walk_to;
+    let [x, y] = target;
+    let distance = x.hypot(y);
+    if distance < t.arrive_m && heading_deg.abs() < t.arrive_deg {
+        return None;
+    }
+    let bearing_deg = y.atan2(x).to_degrees();
+    let (forward, sideways, turn_error_deg) = if distance > t.face_target_beyond_m {
+        // Far: turn to face the target and walk forwards, slowing down while badly turned.
+        let alignment = bearing_deg.to_radians().cos().max(0.0);
+        (t.gain_per_s * distance * alignment, 0.0, bearing_deg)
+    } else {
+        (t.gain_per_s * x, t.gain_per_s * y, heading_deg)
+    };
+    // Keep the direction of travel when a component exceeds its limit: scale both together.
+    let forward_limit = if forward >= 0.0 { p.max_forward_m_s } else { p.max_backward_m_s };
+    let scale = [
+        forward.abs() / forward_limit.max(1e-6),
+        sideways.abs() / p.max_sideways_m_s.max(1e-6),
+        1.0,
+    ]
+    .into_iter()
+    .fold(0.0f64, f64::max);
+    Some(Velocity {
+        forward_m_s: forward / scale,
+        sideways_m_s: sideways / scale,
+        turn_deg_s: (t.turn_gain_per_s * turn_error_deg).clamp(-p.max_turn_deg_s, p.max_turn_deg_s),
+    })
+}

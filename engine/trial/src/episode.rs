@@ -1,0 +1,282 @@
+//! One scripted episode on a real server, recorded from the ground truth.
+
+use libero_agent::{run_agent, AgentConfig, AgentStats, Decider, Player};
+use libero_model::RobotModel;
+use libero_server::{Monitor, ServerOptions, ServerProcess};
+use libero_skills::{Intent, SkillParams, Skills};
+use libero_world::{Posture, World};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+#[derive(Debug, thiserror::Error)]
+pub enum TrialError {
+    #[error(transparent)]
+    Server(#[from] libero_server::ServerError),
+    #[error("monitor: {0}")]
+    Monitor(std::io::Error),
+    #[error(transparent)]
+    Params(#[from] libero_skills::ParamsError),
+    #[error(transparent)]
+    Agent(#[from] libero_agent::run::AgentError),
+    #[error("the episode recorded nothing: the agent never got a percept")]
+    Empty,
+}
+
+/// The robot's state at one cycle, from the server's ground truth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Seconds since the script started.
+    pub t: f64,
+    /// Torso position [m], world frame.
+    pub position: [f64; 3],
+    /// Torso heading [deg], world frame.
+    pub yaw_deg: f64,
+    /// Torso pitch (+ nose down) and roll (+ right side down) [deg], world frame.
+    pub pitch_deg: f64,
+    pub roll_deg: f64,
+    /// The posture the agent's own fall detector reported.
+    pub posture: Posture,
+}
+
+impl Sample {
+    /// Lying or collapsed: torso far below walking height, or the fall detector says so.
+    pub fn fallen(&self) -> bool {
+        self.position[2] < FALLEN_TORSO_Z_M || self.posture != Posture::Upright
+    }
+}
+
+/// Torso heights below this count as a fall (walking height is about 0.6 m).
+pub const FALLEN_TORSO_Z_M: f64 = 0.4;
+
+/// Everything recorded during the script.
+#[derive(Debug, Clone, Default)]
+pub struct Recording {
+    pub samples: Vec<Sample>,
+    /// The intent the script asked for at each sample.
+    pub intents: Vec<Intent>,
+}
+
+impl Recording {
+    pub fn fell(&self) -> bool {
+        self.samples.iter().any(Sample::fallen)
+    }
+
+    /// Seconds until the first fall.
+    pub fn first_fall_s(&self) -> Option<f64> {
+        self.samples.iter().find(|s| s.fallen()).map(|s| s.t)
+    }
+
+    /// Number of separate falls (fallen after having been upright).
+    pub fn falls(&self) -> usize {
+        let mut count = 0;
+        let mut down = false;
+        for s in &self.samples {
+            if s.fallen() && !down {
+                count += 1;
+            }
+            down = s.fallen();
+        }
+        count
+    }
+}
+
+/// What to do in an episode.
+pub struct Episode<S> {
+    /// Where the monitor places the robot: world x, y [m], heading [deg].
+    pub start: [f64; 3],
+    /// Stand this long after being placed before the script starts [s].
+    pub settle_s: f64,
+    /// Called every cycle with the world and the seconds since the script started; `None` ends
+    /// the episode.
+    pub script: S,
+}
+
+/// One server and its monitor, for many episodes.
+pub struct Trial {
+    server: ServerProcess,
+    /// The one monitor connection of this server: rcsssmj 0.2.1 can crash when monitors
+    /// connect or leave while it steps, so there is exactly one, for the server's lifetime.
+    monitor: Arc<Mutex<Monitor>>,
+    model: Arc<RobotModel>,
+    episodes: u32,
+}
+
+/// Torso height at which the monitor places the robot: soles just on the ground (§3.2).
+const PLACE_TORSO_Z_M: f64 = 0.6735;
+const TEAM: &str = "Libero";
+/// Tries per episode when the server dies while the agent joins.
+const JOIN_ATTEMPTS: u32 = 3;
+const UNUM: u32 = 1;
+
+impl Trial {
+    /// Start a fresh fast-mode server for the T1.
+    pub fn start() -> Result<Self, TrialError> {
+        let server = ServerProcess::start(ServerOptions::default())?;
+        let monitor = Arc::new(Mutex::new(
+            Monitor::connect(server.monitor_port).map_err(TrialError::Monitor)?,
+        ));
+        Ok(Self {
+            server,
+            monitor,
+            model: Arc::new(RobotModel::builtin("T1").expect("the T1 model is built in")),
+            episodes: 0,
+        })
+    }
+
+    pub fn model(&self) -> &Arc<RobotModel> {
+        &self.model
+    }
+
+    /// The server's monitor, shared with the running episode.
+    pub fn monitor(&self) -> Arc<Mutex<Monitor>> {
+        Arc::clone(&self.monitor)
+    }
+
+    pub fn server(&self) -> &ServerProcess {
+        &self.server
+    }
+
+    /// Run one episode with `params` and return what the ground truth shows. rcsssmj 0.2.1
+    /// sometimes dies while an agent joins (audio engine and monitor races); then the server
+    /// is restarted and the episode run again from the start.
+    pub fn run<S>(&mut self, params: &SkillParams, episode: Episode<S>) -> Result<Recording, TrialError>
+    where
+        S: FnMut(&World, f64) -> Option<Intent> + Clone + Send + 'static,
+    {
+        let mut attempt = 0;
+        loop {
+            attempt += 1;
+            let copy = Episode {
+                start: episode.start,
+                settle_s: episode.settle_s,
+                script: episode.script.clone(),
+            };
+            match self.run_once(params, copy) {
+                Err(e @ (TrialError::Agent(_) | TrialError::Empty)) if attempt < JOIN_ATTEMPTS => {
+                    log::warn!("trial: episode lost ({e}); restarting the server");
+                    self.restart()?;
+                }
+                other => return other,
+            }
+        }
+    }
+
+    /// A fresh server process and monitor on the same ports.
+    pub fn restart(&mut self) -> Result<(), TrialError> {
+        self.server.restart()?;
+        let monitor = Monitor::connect(self.server.monitor_port).map_err(TrialError::Monitor)?;
+        *self.monitor.lock().map_err(|_| TrialError::Monitor(std::io::Error::other("monitor lock poisoned")))? =
+            monitor;
+        Ok(())
+    }
+
+    fn run_once<S>(&mut self, params: &SkillParams, episode: Episode<S>) -> Result<Recording, TrialError>
+    where
+        S: FnMut(&World, f64) -> Option<Intent> + Send + 'static,
+    {
+        self.episodes += 1;
+        let skills = Skills::new(&self.model, params.clone())?;
+        let recording = Arc::new(Mutex::new(Recording::default()));
+        let shutdown = Arc::new(AtomicBool::new(false));
+        let place = format!(
+            "(agent (unum {UNUM}) (team Left) (move {} {} {PLACE_TORSO_Z_M} {}))",
+            episode.start[0], episode.start[1], episode.start[2]
+        );
+        let decider = ScriptedDecider {
+            script: episode.script,
+            settle_s: episode.settle_s,
+            recording: Arc::clone(&recording),
+            shutdown: Arc::clone(&shutdown),
+            placed_at: None,
+            place_command: Some(place),
+            monitor: Arc::clone(&self.monitor),
+        };
+        let mut player = Player::new(
+            Arc::clone(&self.model),
+            skills,
+            Box::new(decider),
+            TEAM,
+            UNUM,
+            Arc::new(AgentStats::default()),
+        );
+        let mut config = AgentConfig::new("127.0.0.1", self.server.agent_port);
+        config.max_connect_failures = Some(20);
+        config.silence_timeout = std::time::Duration::from_secs(5);
+        run_agent(&config, &mut player, &shutdown)?;
+        drop(player);
+        let recording = std::mem::take(&mut *recording.lock().expect("recording lock"));
+        if recording.samples.is_empty() {
+            return Err(TrialError::Empty);
+        }
+        Ok(recording)
+    }
+}
+
+/// Decisions from a script, with placement, settling and recording around it.
+struct ScriptedDecider<S> {
+    script: S,
+    settle_s: f64,
+    recording: Arc<Mutex<Recording>>,
+    shutdown: Arc<AtomicBool>,
+    /// Server time at which the placement was sent.
+    placed_at: Option<f64>,
+    place_command: Option<String>,
+    monitor: Arc<Mutex<Monitor>>,
+}
+
+impl<S> Decider for ScriptedDecider<S>
+where
+    S: FnMut(&World, f64) -> Option<Intent> + Send,
+{
+    fn decide(&mut self, world: &World) -> Intent {
+        let stand = Intent::default();
+        if let Some(command) = self.place_command.take() {
+            let sent = match self.monitor.lock() {
+                Ok(mut m) => m.send(&command),
+                Err(_) => Err(std::io::Error::other("monitor lock poisoned")),
+            };
+            match sent {
+                Ok(()) => {}
+                Err(e) => {
+                    log::error!("trial: cannot place the robot: {e}");
+                    self.shutdown.store(true, Ordering::Relaxed);
+                }
+            }
+            self.placed_at = Some(world.time);
+            return stand;
+        }
+        let Some(placed) = self.placed_at else { return stand };
+        let t = world.time - placed - self.settle_s;
+        if t < 0.0 {
+            return stand;
+        }
+        let intent = match (self.script)(world, t) {
+            Some(intent) => intent,
+            None => {
+                self.shutdown.store(true, Ordering::Relaxed);
+                return stand;
+            }
+        };
+        if let Ok(mut r) = self.recording.lock() {
+            r.samples.push(sample(world, t));
+            r.intents.push(intent.clone());
+        }
+        intent
+    }
+}
+
+fn sample(world: &World, t: f64) -> Sample {
+    let position = world.truth.torso_position.unwrap_or([f64::NAN; 3]);
+    let [w, x, y, z] = world.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
+    let yaw_deg = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z)).to_degrees();
+    let pitch_deg = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin().to_degrees();
+    let roll_deg = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y)).to_degrees();
+    Sample {
+        t,
+        position,
+        yaw_deg,
+        pitch_deg,
+        roll_deg: -roll_deg,
+        posture: world.body.posture,
+    }
+}
