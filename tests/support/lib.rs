@@ -14,9 +14,35 @@ pub fn init_logging() {
 }
 
 /// A real rcssservermj in fast mode (`--sync --no-realtime`) on free loopback ports.
-pub fn fast_server() -> ServerProcess {
+///
+/// Live tests of one binary take turns (the guard is held in the returned value): on two
+/// cores, servers running side by side would make each other's timing checks meaningless.
+pub fn fast_server() -> LiveServer {
     init_logging();
-    ServerProcess::start(ServerOptions::default()).expect("starting rcssservermj")
+    let turn = LIVE_TURN.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let server = ServerProcess::start(ServerOptions::default()).expect("starting rcssservermj");
+    LiveServer { server, _turn: turn }
+}
+
+static LIVE_TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// A server plus this test's turn on the machine.
+pub struct LiveServer {
+    pub server: ServerProcess,
+    _turn: std::sync::MutexGuard<'static, ()>,
+}
+
+impl std::ops::Deref for LiveServer {
+    type Target = ServerProcess;
+    fn deref(&self) -> &ServerProcess {
+        &self.server
+    }
+}
+
+impl std::ops::DerefMut for LiveServer {
+    fn deref_mut(&mut self) -> &mut ServerProcess {
+        &mut self.server
+    }
 }
 
 pub fn t1() -> Arc<RobotModel> {
