@@ -18,7 +18,10 @@ impl Decider for StandAndBeam {
     fn decide(&mut self, world: &World) -> Intent {
         Intent {
             body: BodyIntent::Stand,
-            head: HeadIntent::LookAround,
+            head: HeadIntent::LookAround {
+                amplitude_deg: None,
+                period_s: None,
+            },
             beam: world.game.play_mode.allows_beam().then_some(self.beam_pose),
             say: None,
         }

@@ -17,7 +17,12 @@ pub enum BodyIntent {
     /// Walk to a pose given relative to the robot: `target` = (x forwards, y left) [m] and the
     /// final `heading_deg` relative to the current heading. Stops (and stands) once there.
     /// Callers holding a field pose convert it to the robot frame each cycle.
-    WalkTo { target: [f64; 2], heading_deg: f64 },
+    /// `max_speed_m_s` caps the walking speed below the walk's own limits (`None`: no cap).
+    WalkTo {
+        target: [f64; 2],
+        heading_deg: f64,
+        max_speed_m_s: Option<f64>,
+    },
     /// Kick the ball at `ball` = (x, y) [m] in the robot frame towards `direction_deg` (robot
     /// frame, + left) over about `distance_m`. The skill walks to its kicking place behind the
     /// ball from wherever the robot is, then kicks with the better foot.
@@ -36,8 +41,12 @@ pub enum HeadIntent {
     /// Keep the head where the body skill puts it.
     #[default]
     Hold,
-    /// Pan left and right to see more landmarks.
-    LookAround,
+    /// Pan left and right to see more landmarks. `None` fields take the skill parameters'
+    /// values.
+    LookAround {
+        amplitude_deg: Option<f64>,
+        period_s: Option<f64>,
+    },
 }
 
 /// One cycle's request to the skill layer.

@@ -111,7 +111,9 @@ impl Skills {
             BodyIntent::WalkTo {
                 target,
                 heading_deg,
-            } => walk::walk_to::velocity_towards(target, heading_deg, walk_params),
+                max_speed_m_s,
+            } => walk::walk_to::velocity_towards(target, heading_deg, walk_params)
+                .map(|v| v.capped(max_speed_m_s)),
         };
         let active = if request.is_some() || self.walk.is_stepping() {
             self.walk.update(world, request, walk_params, &mut self.pose);
@@ -132,10 +134,15 @@ impl Skills {
         self.last_pose.copy_from_slice(&self.pose);
         match intent.head {
             HeadIntent::Hold => {}
-            HeadIntent::LookAround => {
+            HeadIntent::LookAround {
+                amplitude_deg,
+                period_s,
+            } => {
                 let la = &self.params.look_around;
-                let phase = world.time * std::f64::consts::TAU / la.period_s.max(0.1);
-                out.set_angle(model, "head_yaw", la.yaw_amplitude_deg * phase.sin());
+                let period = period_s.unwrap_or(la.period_s).max(0.1);
+                let amplitude = amplitude_deg.unwrap_or(la.yaw_amplitude_deg);
+                let phase = world.time * std::f64::consts::TAU / period;
+                out.set_angle(model, "head_yaw", amplitude * phase.sin());
                 out.set_angle(model, "head_pitch", la.pitch_deg);
             }
         }

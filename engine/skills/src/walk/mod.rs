@@ -32,6 +32,22 @@ pub struct Velocity {
 }
 
 impl Velocity {
+    /// The same direction of travel with the translational speed at most `limit` [m/s].
+    pub fn capped(self, limit: Option<f64>) -> Velocity {
+        let speed = self.forward_m_s.hypot(self.sideways_m_s);
+        match limit {
+            Some(limit) if speed > limit && speed > 0.0 => {
+                let k = limit.max(0.0) / speed;
+                Velocity {
+                    forward_m_s: self.forward_m_s * k,
+                    sideways_m_s: self.sideways_m_s * k,
+                    ..self
+                }
+            }
+            _ => self,
+        }
+    }
+
     fn is_zero(&self) -> bool {
         self.forward_m_s.abs() < 1e-4 && self.sideways_m_s.abs() < 1e-4 && self.turn_deg_s.abs() < 1e-2
     }
