@@ -24,9 +24,17 @@ enum Command {
     Agent(commands::agent::AgentArgs),
     /// Run a team of agents in one process.
     Team(commands::team::TeamArgs),
+    /// Check behavior trees and strategy files: every error, located, with hints.
+    Validate(commands::behavior::ValidateArgs),
+    /// Print the native nodes behavior trees can use.
+    Nodes(commands::behavior::NodesArgs),
     /// Manage a local rcssservermj.
     #[command(subcommand)]
     Server(commands::server::ServerCommand),
+    /// Tune a skill's parameters with CMA-ES against real servers; writes the best back.
+    Optimize(commands::optimize::OptimizeArgs),
+    /// Measure a skill on a real server (e.g. `libero bench walk`).
+    Bench(commands::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +47,10 @@ fn main() -> ExitCode {
         Command::Agent(args) => commands::agent::run(args),
         Command::Team(args) => commands::team::run(args),
         Command::Server(cmd) => commands::server::run(cmd),
+        Command::Validate(args) => commands::behavior::validate(args),
+        Command::Nodes(args) => commands::behavior::nodes(args),
+        Command::Optimize(args) => commands::optimize::run(args),
+        Command::Bench(args) => commands::bench::run(args),
     };
     match result {
         Ok(code) => code,

@@ -1,10 +1,13 @@
 //! Assembling a player from data: robot model, skill parameters, decision source.
 
-use crate::decide::StandAndBeam;
+use crate::decide::{LibrarySource, StandAndBeam, TreeDecider};
+use crate::natives::{vocabulary, Natives};
 use crate::player::Player;
 use crate::stats::AgentStats;
+use libero_behavior::{Library, LiveLibrary, ReloadOptions};
 use libero_model::RobotModel;
 use libero_skills::{SkillParams, Skills};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// Why a player could not be assembled.
@@ -12,19 +15,90 @@ use std::sync::Arc;
 pub enum BuildError {
     #[error(transparent)]
     Params(#[from] libero_skills::ParamsError),
+    #[error("the behavior files have errors:\n{0}")]
+    Behavior(String),
 }
 
 /// Own-frame kick-off position of a player (own goal at −x), used when no formation is loaded.
 pub fn fallback_kickoff_pose(unum: u32) -> [f64; 3] {
-    let table = [[-25.0, 0.0], [-15.0, 6.0], [-15.0, -6.0], [-9.0, 0.0], [-5.0, 8.0], [-5.0, -8.0], [-2.0, 0.0]];
+    let table = [
+        [-25.0, 0.0],
+        [-15.0, 6.0],
+        [-15.0, -6.0],
+        [-9.0, 0.0],
+        [-5.0, 8.0],
+        [-5.0, -8.0],
+        [-2.0, 0.0],
+    ];
     let [x, y] = table[(unum.saturating_sub(1) as usize) % table.len()];
     [x, y, 0.0]
 }
 
 /// A player that beams to its kick-off place and stands, with the model's built-in skill
 /// parameters.
-pub fn standing_player(model: &Arc<RobotModel>, team: &str, unum: u32) -> Result<Player, BuildError> {
+pub fn standing_player(
+    model: &Arc<RobotModel>,
+    team: &str,
+    unum: u32,
+) -> Result<Player, BuildError> {
     let skills = Skills::new(model, SkillParams::builtin(model)?)?;
-    let decider = Box::new(StandAndBeam { beam_pose: fallback_kickoff_pose(unum) });
-    Ok(Player::new(Arc::clone(model), skills, decider, team, unum, Arc::new(AgentStats::default())))
+    let decider = Box::new(StandAndBeam {
+        beam_pose: fallback_kickoff_pose(unum),
+    });
+    Ok(Player::new(
+        Arc::clone(model),
+        skills,
+        decider,
+        team,
+        unum,
+        Arc::new(AgentStats::default()),
+    ))
+}
+
+/// The repository's data folders (`behaviors/`, `formations/`): under `LIBERO_HOME` if set,
+/// else under the checkout this crate was built from.
+pub fn default_data_dirs() -> Vec<PathBuf> {
+    let root = std::env::var_os("LIBERO_HOME")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."));
+    vec![root.join("behaviors"), root.join("formations")]
+}
+
+/// Load the behavior and strategy files of `dirs`; with `watch`, keep watching them and swap in
+/// every good edit while the team plays.
+pub fn load_library(dirs: &[PathBuf], watch: bool) -> Result<LibrarySource, BuildError> {
+    let vocabulary = vocabulary();
+    if watch {
+        let live = LiveLibrary::start(
+            dirs.to_vec(),
+            Arc::new(vocabulary),
+            ReloadOptions::default(),
+        )
+        .map_err(|report| BuildError::Behavior(report.render_text()))?;
+        Ok(LibrarySource::Live(Arc::new(live)))
+    } else {
+        let library = Library::load(dirs, &vocabulary)
+            .map_err(|report| BuildError::Behavior(report.render_text()))?;
+        Ok(LibrarySource::Fixed(Arc::new(library)))
+    }
+}
+
+/// A player whose decisions come from its behavior tree in `source`.
+pub fn tree_player(
+    model: &Arc<RobotModel>,
+    team: &str,
+    unum: u32,
+    source: &LibrarySource,
+) -> Result<Player, BuildError> {
+    let skills = Skills::new(model, SkillParams::builtin(model)?)?;
+    let natives = Natives::new(&vocabulary());
+    let decider = Box::new(TreeDecider::new(source.clone(), natives, unum));
+    Ok(Player::new(
+        Arc::clone(model),
+        skills,
+        decider,
+        team,
+        unum,
+        Arc::new(AgentStats::default()),
+    ))
 }

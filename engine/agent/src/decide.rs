@@ -1,11 +1,19 @@
 //! The decision stage: from beliefs to this cycle's intent.
 
+use crate::natives::{AgentHost, Natives};
+use libero_behavior::{Library, LiveLibrary, TreeRunner};
 use libero_skills::{BodyIntent, HeadIntent, Intent};
 use libero_world::World;
+use std::sync::Arc;
 
 /// Chooses what the skills should do this cycle.
 pub trait Decider: Send {
     fn decide(&mut self, world: &World) -> Intent;
+
+    /// The active path of the latest decision, one line (for traces and tests).
+    fn trace_line(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Beam to a fixed own-frame pose when the play mode allows, then stand and look around.
@@ -25,5 +33,86 @@ impl Decider for StandAndBeam {
             beam: world.game.play_mode.allows_beam().then_some(self.beam_pose),
             say: None,
         }
+    }
+}
+
+/// Where a process's behavior files come from: loaded once, or watched and hot-reloaded.
+/// Shared by every agent of the process.
+#[derive(Clone)]
+pub enum LibrarySource {
+    Fixed(Arc<Library>),
+    Live(Arc<LiveLibrary>),
+}
+
+impl LibrarySource {
+    /// The newest good library (a broken edit never replaces it).
+    pub fn current(&self) -> Arc<Library> {
+        match self {
+            LibrarySource::Fixed(l) => Arc::clone(l),
+            LibrarySource::Live(l) => l.current(),
+        }
+    }
+}
+
+/// Decides by ticking this player's behavior tree from the team file.
+pub struct TreeDecider {
+    source: LibrarySource,
+    natives: Natives,
+    runner: Option<TreeRunner>,
+    unum: u32,
+}
+
+impl TreeDecider {
+    pub fn new(source: LibrarySource, natives: Natives, unum: u32) -> Self {
+        Self {
+            source,
+            natives,
+            runner: None,
+            unum,
+        }
+    }
+
+    /// Make the runner for this player's root tree on first use. A library whose team file
+    /// names no tree for us leaves the player standing.
+    fn ensure_runner(&mut self, library: &Arc<Library>) {
+        if self.runner.is_some() {
+            return;
+        }
+        let unum = u8::try_from(self.unum).unwrap_or(u8::MAX);
+        let Some(root) = library.strategy().tree_for(unum) else {
+            return;
+        };
+        match TreeRunner::new(library, root) {
+            Ok(runner) => self.runner = Some(runner),
+            Err(e) => log::error!("player {}: tree `{root}` cannot run: {e}", self.unum),
+        }
+    }
+}
+
+impl Decider for TreeDecider {
+    fn decide(&mut self, world: &World) -> Intent {
+        let library = self.source.current();
+        let mut intent = Intent::default();
+        self.ensure_runner(&library);
+        if let Some(runner) = self.runner.as_mut() {
+            let mut host = AgentHost {
+                world,
+                strategy: library.strategy(),
+                natives: &self.natives,
+                intent: &mut intent,
+            };
+            runner.tick(&mut host, &library);
+        }
+        intent
+    }
+
+    fn trace_line(&self) -> Option<String> {
+        let record = self.runner.as_ref()?.trace().last()?;
+        let leaves: Vec<String> = record
+            .leaves()
+            .iter()
+            .map(|(label, status)| format!("{label}={status:?}"))
+            .collect();
+        Some(leaves.join(" "))
     }
 }

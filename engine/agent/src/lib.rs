@@ -11,12 +11,13 @@ pub mod actuate;
 pub mod build;
 pub mod connection;
 pub mod decide;
+pub mod natives;
 pub mod player;
 pub mod run;
 pub mod stats;
 pub mod team;
 
-pub use decide::{Decider, StandAndBeam};
+pub use decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
 pub use player::Player;
 pub use run::{run_agent, AgentConfig};
 pub use stats::AgentStats;

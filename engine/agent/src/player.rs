@@ -26,6 +26,8 @@ pub struct Player {
     /// The play mode in which we last beamed: beam once per beam-allowing mode, because a
     /// beam resets the joints and repeated beams would never let the robot settle.
     beamed_in: Option<PlayMode>,
+    /// Publish each cycle's decision trace in the stats (for tests and live inspection).
+    pub share_trace: bool,
 }
 
 impl Player {
@@ -50,6 +52,7 @@ impl Player {
             intent: Intent::default(),
             stats,
             beamed_in: None,
+            share_trace: false,
         }
     }
 
@@ -117,6 +120,11 @@ impl Player {
             }
         }
         self.intent = self.decider.decide(&self.world);
+        if self.share_trace {
+            if let Ok(mut trace) = self.stats.trace.lock() {
+                *trace = self.decider.trace_line();
+            }
+        }
         self.skills
             .act(&self.model, &self.world, &self.intent, &mut self.targets);
         let mode = self.world.game.play_mode;
@@ -144,11 +152,18 @@ impl Player {
             // only a step of 0.04 s or more is a skipped cycle.
             let gap = ((now - before + 0.005) / CYCLE_S).floor() as u64;
             if gap > 1 {
-                log::debug!("agent {}: server time jumped {before:.2} → {now:.2}", self.world.game.unum);
-                self.stats.missed_cycles.fetch_add(gap - 1, Ordering::Relaxed);
+                log::debug!(
+                    "agent {}: server time jumped {before:.2} → {now:.2}",
+                    self.world.game.unum
+                );
+                self.stats
+                    .missed_cycles
+                    .fetch_add(gap - 1, Ordering::Relaxed);
             }
         }
-        self.stats.last_time_ms.store((now * 1000.0) as u64, Ordering::Relaxed);
+        self.stats
+            .last_time_ms
+            .store((now * 1000.0) as u64, Ordering::Relaxed);
         if let Ok(mut truth) = self.stats.truth_position.lock() {
             *truth = self.world.truth.torso_position;
         }

@@ -20,6 +20,8 @@ pub struct AgentStats {
     pub last_time_ms: AtomicU64,
     /// The server's ground-truth torso position in the last percept (evaluation only).
     pub truth_position: Mutex<Option<[f64; 3]>>,
+    /// The decision trace of the last cycle, when the player shares it.
+    pub trace: Mutex<Option<String>>,
 }
 
 impl AgentStats {
@@ -30,6 +32,11 @@ impl AgentStats {
     /// The last ground-truth torso position the server sent.
     pub fn truth_position(&self) -> Option<[f64; 3]> {
         self.truth_position.lock().ok().and_then(|t| *t)
+    }
+
+    /// The last shared decision trace.
+    pub fn trace(&self) -> Option<String> {
+        self.trace.lock().ok().and_then(|t| t.clone())
     }
 
     pub(crate) fn bump(counter: &AtomicU64) {

@@ -1,6 +1,6 @@
 //! `libero agent`: one player.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot};
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{run_agent, AgentConfig};
@@ -23,11 +23,14 @@ pub struct AgentArgs {
     /// A robot model RON file instead of a built-in one.
     #[arg(long)]
     pub robot_file: Option<PathBuf>,
+    #[command(flatten)]
+    pub data: DataArgs,
 }
 
 pub fn run(args: AgentArgs) -> CliResult {
     let model = load_robot(&args.robot, args.robot_file.as_ref())?;
-    let mut player = build_player(&model, &args.team, args.unum)?;
+    let source = args.data.source()?;
+    let mut player = build_player(&model, &args.team, args.unum, &source)?;
     let shutdown = ctrl_c_flag();
     run_agent(
         &AgentConfig::new(&args.host, args.port),

@@ -1,6 +1,6 @@
 //! `libero match`: the main job — a whole match on a server the project installs itself.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot};
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{AgentConfig, AgentStats, Team};
@@ -26,6 +26,9 @@ pub struct MatchArgs {
     pub left: String,
     #[arg(long, default_value = "LiberoB")]
     pub right: String,
+    /// Behavior and strategy files, used by both teams.
+    #[command(flatten)]
+    pub data: DataArgs,
 }
 
 pub fn run(args: MatchArgs) -> CliResult {
@@ -37,6 +40,7 @@ pub fn run(args: MatchArgs) -> CliResult {
         )
         .into());
     }
+    let source = args.data.source()?;
     let shutdown = ctrl_c_flag();
     println!(
         "starting rcssservermj ({} mode)…",
@@ -54,7 +58,7 @@ pub fn run(args: MatchArgs) -> CliResult {
     let mut teams = Vec::new();
     for name in [&args.left, &args.right] {
         let players = (1..=args.players)
-            .map(|unum| build_player(&model, name, unum))
+            .map(|unum| build_player(&model, name, unum, &source))
             .collect::<Result<Vec<_>, _>>()?;
         println!("team {name}: {} players joining…", args.players);
         teams.push(Team::start(&config, players, shutdown.clone()));

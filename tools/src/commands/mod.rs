@@ -1,7 +1,10 @@
 //! One module per subcommand; shared setup lives in [`setup`].
 
 pub mod agent;
+pub mod behavior;
+pub mod bench;
 pub mod matchup;
+pub mod optimize;
 pub mod server;
 pub mod setup;
 pub mod team;

@@ -1,6 +1,6 @@
 //! Building players from the command line's choices.
 
-use libero_agent::Player;
+use libero_agent::{LibrarySource, Player};
 use libero_model::RobotModel;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -29,7 +29,42 @@ pub fn load_robot(
     Ok(Arc::new(model))
 }
 
-/// A player with the standard pipeline.
-pub fn build_player(model: &Arc<RobotModel>, team: &str, unum: u32) -> Result<Player, Box<dyn std::error::Error>> {
-    Ok(libero_agent::build::standing_player(model, team, unum)?)
+/// Where a team's behavior trees and strategy files come from.
+#[derive(clap::Args, Clone, Debug)]
+pub struct DataArgs {
+    /// Folder of behavior trees [default: the repository's behaviors/]
+    #[arg(long, value_name = "DIR")]
+    pub behaviors: Option<PathBuf>,
+    /// Folder of formation and strategy files [default: the repository's formations/]
+    #[arg(long, value_name = "DIR")]
+    pub formations: Option<PathBuf>,
+    /// Load the files once instead of reloading them on every edit.
+    #[arg(long)]
+    pub no_watch: bool,
+}
+
+impl DataArgs {
+    /// Load (and, unless `--no-watch`, watch) the files; every error is reported at once.
+    pub fn source(&self) -> Result<LibrarySource, Box<dyn std::error::Error>> {
+        let defaults = libero_agent::build::default_data_dirs();
+        let dirs = vec![
+            self.behaviors
+                .clone()
+                .unwrap_or_else(|| defaults[0].clone()),
+            self.formations
+                .clone()
+                .unwrap_or_else(|| defaults[1].clone()),
+        ];
+        Ok(libero_agent::build::load_library(&dirs, !self.no_watch)?)
+    }
+}
+
+/// A player that runs its behavior tree from `source`.
+pub fn build_player(
+    model: &Arc<RobotModel>,
+    team: &str,
+    unum: u32,
+    source: &LibrarySource,
+) -> Result<Player, Box<dyn std::error::Error>> {
+    Ok(libero_agent::build::tree_player(model, team, unum, source)?)
 }

@@ -1,6 +1,6 @@
 //! `libero team`: N players in one process.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot};
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{simspark_team_types, AgentConfig, Team};
@@ -22,10 +22,13 @@ pub struct TeamArgs {
     /// server's heterogeneous-team rules).
     #[arg(long, default_value = "T1")]
     pub robot: String,
+    #[command(flatten)]
+    pub data: DataArgs,
 }
 
 pub fn run(args: TeamArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
+    let source = args.data.source()?;
     let mut players = Vec::new();
     let simspark = args.robot.eq_ignore_ascii_case("nao");
     let types = simspark_team_types(args.players as usize);
@@ -39,7 +42,7 @@ pub fn run(args: TeamArgs) -> CliResult {
         if simspark && model.server != ServerKind::SimSpark {
             return Err(format!("{name} is not a SimSpark robot").into());
         }
-        players.push(build_player(&model, &args.team, unum)?);
+        players.push(build_player(&model, &args.team, unum, &source)?);
     }
     let team = Team::start(
         &AgentConfig::new(&args.host, args.port),
