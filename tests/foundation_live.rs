@@ -61,6 +61,13 @@ fn seven_agents_stand_thirty_seconds_and_survive_a_second_team_joining() {
     wait_sim_seconds(first, 3.0);
     assert_all_standing(&home, nominal, "after the second team joined");
     assert_all_standing(&away, nominal, "second team after joining");
+    // Both teams beamed into their own halves (the right team's beam is mirrored on the wire).
+    for (team, sign) in [(&home, -1.0), (&away, 1.0)] {
+        for (unum, s) in &team.stats {
+            let [x, _, _] = s.truth_position().unwrap();
+            assert!(x * sign > 0.5, "player {unum} of the {} team stands at x = {x:.2}", if sign < 0.0 { "left" } else { "right" });
+        }
+    }
     assert_healthy(&home);
     assert_healthy(&away);
     home_stop.store(true, std::sync::atomic::Ordering::Relaxed);

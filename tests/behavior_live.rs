@@ -1,0 +1,104 @@
+//! Hot reload during a match, live: a real server, a player running its tree from files on
+//! disk, and edits to those files while it plays.
+
+use libero_agent::{build, AgentConfig, AgentStats, LibrarySource, Team};
+use libero_behavior::ReloadEvent;
+use libero_server::{ServerOptions, ServerProcess};
+use libero_tests::{init_logging, t1, wait_until};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// A private copy of the shipped behaviors and formations that the test may edit.
+fn copy_of_shipped_data() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dest = std::env::temp_dir().join(format!("libero-hot-reload-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dest);
+    let mut dirs = Vec::new();
+    for name in ["behaviors", "formations"] {
+        let to = dest.join(name);
+        std::fs::create_dir_all(&to).unwrap();
+        for entry in std::fs::read_dir(root.join(name)).unwrap() {
+            let from = entry.unwrap().path();
+            std::fs::copy(&from, to.join(from.file_name().unwrap())).unwrap();
+        }
+        dirs.push(to);
+    }
+    dirs
+}
+
+/// Write a file the way many editors do: a temporary file renamed over the old one.
+fn save(path: &Path, text: &str) {
+    let tmp = path.with_extension("ron.tmp~");
+    std::fs::write(&tmp, text).unwrap();
+    std::fs::rename(&tmp, path).unwrap();
+}
+
+fn events(source: &LibrarySource) -> Vec<ReloadEvent> {
+    match source {
+        LibrarySource::Live(live) => live.drain_events(),
+        LibrarySource::Fixed(_) => Vec::new(),
+    }
+}
+
+#[test]
+fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree() {
+    init_logging();
+    // Real-time mode: cycles are 20 ms of wall time, so "three cycles" means what it means in
+    // a match.
+    let server = ServerProcess::start(ServerOptions { sync: false, realtime: true, ..ServerOptions::default() })
+        .expect("starting rcssservermj");
+    let dirs = copy_of_shipped_data();
+    let common = dirs[0].join("common.ron");
+    let original = std::fs::read_to_string(&common).unwrap();
+    let source = build::load_library(&dirs, true).expect("shipped files load");
+    let mut player = build::tree_player(&t1(), "Home", 2, &source).unwrap();
+    player.share_trace = true;
+    let stats = Arc::clone(player.stats());
+    let stop = Arc::new(AtomicBool::new(false));
+    let team = Team::start(&AgentConfig::new("127.0.0.1", server.agent_port), vec![player], Arc::clone(&stop));
+    let trace = || stats.trace().unwrap_or_default();
+    wait_until(Duration::from_secs(20), || trace().contains("Action LookAround=Running"))
+        .unwrap_or_else(|| panic!("before kick-off the player stands and looks around; trace: {}", trace()));
+    assert!(trace().contains("Action Stand=Running"), "{}", trace());
+
+    // 1. A good edit: hold position without scanning.
+    let edited = original.replace(r#"Action(name: "LookAround", amplitude: 1.2, period: 4.0),"#, r#"Wait(seconds: 1000.0),"#);
+    assert_ne!(edited, original, "the edit must change the file");
+    let written = Instant::now();
+    save(&common, &edited);
+    std::thread::sleep(Duration::from_millis(150)); // the debounce window
+    let cycles_at_window_end = AgentStats::get(&stats.percepts);
+    wait_until(Duration::from_secs(5), || !trace().contains("LookAround"))
+        .unwrap_or_else(|| panic!("the edited tree never ran; trace: {}", trace()));
+    let cycles_after_window = AgentStats::get(&stats.percepts) - cycles_at_window_end;
+    eprintln!("edit active {:?} after the write, {cycles_after_window} cycles after the debounce window", written.elapsed());
+    assert!(cycles_after_window <= 3, "new tree active only {cycles_after_window} cycles after the debounce window");
+    assert!(trace().contains("Action Stand=Running"), "{}", trace());
+    assert!(events(&source).iter().any(|e| matches!(e, ReloadEvent::Reloaded { recovered: false, .. })));
+
+    // 2. A broken edit: the team keeps playing the last good tree and the error is reported.
+    let percepts_before = AgentStats::get(&stats.percepts);
+    save(&common, &edited.replace(r#"Action("Stand")"#, r#"Action("Stnd")"#));
+    let rejected = wait_until(Duration::from_secs(3), || {
+        events(&source).iter().any(|e| matches!(e, ReloadEvent::Rejected { report } if report.render_text().contains("Stnd")))
+    });
+    assert!(rejected.is_some(), "the broken edit was not reported");
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(trace().contains("Action Stand=Running") && !trace().contains("LookAround"), "old tree kept: {}", trace());
+    assert!(AgentStats::get(&stats.percepts) > percepts_before + 10, "the player kept playing");
+
+    // 3. The fix: the original tree runs again and the recovery is reported.
+    save(&common, &original);
+    wait_until(Duration::from_secs(3), || trace().contains("Action LookAround=Running"))
+        .unwrap_or_else(|| panic!("the fixed tree never ran; trace: {}", trace()));
+    let recovered = wait_until(Duration::from_secs(1), || {
+        events(&source).iter().any(|e| matches!(e, ReloadEvent::Reloaded { recovered: true, .. }))
+    });
+    assert!(recovered.is_some(), "the recovery was not reported");
+    assert_eq!(AgentStats::get(&stats.connections), 1);
+    assert_eq!(AgentStats::get(&stats.unreadable), 0);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    team.join();
+}
