@@ -13,6 +13,8 @@ use std::collections::VecDeque;
 
 /// Observations kept per track (a little more than 2 s of vision at 25 Hz).
 const TRACK_CAPACITY: usize = 64;
+/// Faster than any kick [m/s]: a launch fit beyond it explains nothing.
+const MAX_BALL_SPEED: f64 = 15.0;
 /// Points needed before a track's fit says anything about launch speed or rest.
 const LAUNCH_WINDOW_MIN_POINTS: usize = 3;
 
@@ -56,6 +58,7 @@ struct Tracker {
     /// Set once the track has been seen rolling: (position, speed) at that moment.
     rolling_start: Option<(Vector2<f64>, f64)>,
     learned_from_track: bool,
+    drag_factor: f64,
     /// Where the ball lies while at rest.
     rest_position: Option<Vector2<f64>>,
 }
@@ -74,7 +77,8 @@ impl BallEstimate {
             drag_factor: 1.0,
             tracker: Tracker {
                 params: params.clone(),
-                motion: BallMotion::new(params, 1.0),
+                motion: BallMotion::new(params, 1.0, 0.0),
+                drag_factor: 1.0,
                 observations: VecDeque::with_capacity(TRACK_CAPACITY),
                 fit_time: 0.0,
                 fit_position: Vector2::zeros(),
@@ -195,7 +199,7 @@ impl BallEstimate {
         let (lo, hi) = t.params.drag_factor_bounds;
         let factor = (self.drag_factor * ratio.powf(t.params.drag_learning_rate)).clamp(lo, hi);
         self.drag_factor = factor;
-        t.motion = BallMotion::new(&t.params, factor);
+        t.drag_factor = factor;
     }
 
     fn publish(&mut self, time: f64) {
@@ -424,6 +428,10 @@ impl Tracker {
             }
         }
         let (v0, t0) = (theta[1], theta[2]);
+        // A "launch" that the model cannot explain (a ball placed by hand) is not used.
+        if v0.is_nan() || v0 > MAX_BALL_SPEED || theta[0].is_nan() || theta[0].abs() > 1.0 {
+            return None;
+        }
         let now_state = self.motion.advance(v0, Some(v0 * ratio), now - t0);
         Some(LaunchFit {
             position: start + direction * (theta[0] + now_state.distance),
@@ -460,6 +468,19 @@ impl Tracker {
             .map(|(t, p)| (t - now, p.xy()))
             .collect();
         let (position, velocity, acceleration) = fit_polynomial(&points);
+        // Friction depends on the direction of travel; the path of a young track from rest
+        // is best given by where it left.
+        let heading_vector = match self.launch {
+            Some(l) if l.from_rest => self
+                .observations
+                .back()
+                .map_or(velocity, |(_, p)| p.xy() - l.origin),
+            _ => velocity,
+        };
+        if heading_vector.norm() > 1e-6 {
+            let heading = heading_vector.y.atan2(heading_vector.x);
+            self.motion = BallMotion::new(&self.params, self.drag_factor, heading);
+        }
         self.fit_time = now;
         self.fit_position = position;
         self.fit_velocity = if velocity.norm() < self.params.rest_speed {

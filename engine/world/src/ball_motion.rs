@@ -5,7 +5,7 @@
 //! resistance once it rolls; the switch happens at `rolling_speed_ratio` × launch speed.
 //! Each phase has closed-form speed, distance and time, so predictions cost no integration.
 
-use crate::params::BallParams;
+use crate::params::{BallParams, DirectionalFriction};
 
 /// One phase: deceleration `constant + quadratic·v²`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,6 +69,28 @@ impl Phase {
     }
 }
 
+/// The table entry for `heading`, linearly interpolated in the angle to the nearest field axis.
+fn friction_towards(table: &[DirectionalFriction], heading: f64) -> DirectionalFriction {
+    let folded = heading.to_degrees().rem_euclid(90.0);
+    let angle = if folded > 45.0 { 90.0 - folded } else { folded };
+    let first = table[0];
+    let Some(i) = table.iter().position(|f| f.angle_deg >= angle) else {
+        return *table.last().unwrap_or(&first);
+    };
+    if i == 0 {
+        return first;
+    }
+    let (a, b) = (table[i - 1], table[i]);
+    let w = (angle - a.angle_deg) / (b.angle_deg - a.angle_deg);
+    let mix = |x: f64, y: f64| x + w * (y - x);
+    DirectionalFriction {
+        angle_deg: angle,
+        sliding: mix(a.sliding, b.sliding),
+        rolling: mix(a.rolling, b.rolling),
+        quadratic_drag: mix(a.quadratic_drag, b.quadratic_drag),
+    }
+}
+
 /// The ball's straight-line slow-down, from the tunable parameters and the learned drag factor.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BallMotion {
@@ -87,16 +109,18 @@ pub struct Progress {
 }
 
 impl BallMotion {
-    /// `drag_factor` multiplies the rolling resistance (learned from roll-outs).
-    pub fn new(params: &BallParams, drag_factor: f64) -> Self {
+    /// The model for a ball travelling along `heading` [rad, field frame]; `drag_factor`
+    /// multiplies the rolling resistance (learned from roll-outs).
+    pub fn new(params: &BallParams, drag_factor: f64, heading: f64) -> Self {
+        let f = friction_towards(&params.friction_by_direction, heading);
         Self {
             sliding: Phase {
-                constant: params.sliding_deceleration,
-                quadratic: params.quadratic_drag,
+                constant: f.sliding,
+                quadratic: f.quadratic_drag,
             },
             rolling: Phase {
-                constant: params.rolling_deceleration * drag_factor,
-                quadratic: params.quadratic_drag,
+                constant: f.rolling * drag_factor,
+                quadratic: f.quadratic_drag,
             },
             rolling_speed_ratio: params.rolling_speed_ratio,
         }
@@ -182,7 +206,7 @@ mod tests {
     use crate::params::WorldParams;
 
     fn motion() -> BallMotion {
-        BallMotion::new(&WorldParams::builtin().ball, 1.0)
+        BallMotion::new(&WorldParams::builtin().ball, 1.0, 0.0)
     }
 
     /// Euler integration of the same model, to check the closed forms.
@@ -221,8 +245,16 @@ mod tests {
     #[test]
     fn stop_distances_match_the_simulated_server_ball() {
         // MuJoCo runs of the server's ball (world.xml) launched at v0 without spin.
-        let m = motion();
-        for &(v0, simulated) in &[(1.0, 0.5645), (4.0, 6.911), (8.0, 18.08)] {
+        let params = WorldParams::builtin().ball;
+        for &(v0, deg, simulated) in &[
+            (1.0, 0.0, 0.5645),
+            (4.0, 90.0, 6.911),
+            (8.0, 180.0, 18.08),
+            (4.0, 45.0, 9.44),
+            (8.0, -45.0, 23.85),
+            (8.0, 30.0, 21.73),
+        ] {
+            let m = BallMotion::new(&params, 1.0, f64::to_radians(deg));
             let predicted = m.stop_distance(v0, Some(v0 * m.rolling_speed_ratio));
             assert!(
                 (predicted - simulated).abs() < 0.04 * simulated,
@@ -234,10 +266,11 @@ mod tests {
     #[test]
     fn no_drag_means_constant_deceleration() {
         let mut p = WorldParams::builtin().ball;
-        p.quadratic_drag = 0.0;
-        let m = BallMotion::new(&p, 1.0);
+        p.friction_by_direction.truncate(1);
+        p.friction_by_direction[0].quadratic_drag = 0.0;
+        let m = BallMotion::new(&p, 1.0, 0.3);
         let d = m.stop_distance(2.0, None);
-        assert!((d - 4.0 / (2.0 * p.rolling_deceleration)).abs() < 1e-9);
+        assert!((d - 4.0 / (2.0 * p.friction_by_direction[0].rolling)).abs() < 1e-9);
         assert!(m.advance(2.0, None, 100.0).speed == 0.0);
     }
 }

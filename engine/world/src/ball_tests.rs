@@ -2,10 +2,13 @@ use super::*;
 use crate::params::WorldParams;
 
 /// Observations of a launch every 0.04 s following the motion model exactly, starting from rest.
-fn launch(speed: f64, heading: f64) -> (BallEstimate, Vec<(f64, Vector3<f64>)>, Vector2<f64>) {
+/// Timed ball observations.
+type Track = Vec<(f64, Vector3<f64>)>;
+
+fn launch(speed: f64, heading: f64) -> (BallEstimate, Track, Vector2<f64>) {
     let params = WorldParams::builtin().ball;
     let ball = BallEstimate::new(&params);
-    let model = BallMotion::new(&params, 1.0);
+    let model = BallMotion::new(&params, 1.0, heading);
     let start = Vector2::new(-3.0, 2.0);
     let dir = Vector2::new(heading.cos(), heading.sin());
     let roll = Some(speed * model.rolling_speed_ratio);
@@ -77,9 +80,7 @@ fn drag_factor_learns_from_a_slower_rollout() {
     let params = WorldParams::builtin().ball;
     let mut ball = BallEstimate::new(&params);
     // A rolling ball (no launch seen) that stops 30 % earlier than the model says.
-    let mut truth = params.clone();
-    truth.rolling_deceleration *= 1.5;
-    let heavy = BallMotion::new(&truth, 1.0);
+    let heavy = BallMotion::new(&params, 1.5, 0.0);
     let mut before = None;
     for k in 0..200 {
         let t = 0.04 * k as f64;

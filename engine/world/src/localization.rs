@@ -366,7 +366,8 @@ impl Localizer {
             return false;
         };
         let mahalanobis = (residual.transpose() * inverse * residual)[(0, 0)];
-        if !(mahalanobis <= self.params.outlier_gate) {
+        // NaN fails this test too.
+        if mahalanobis.is_nan() || mahalanobis > self.params.outlier_gate {
             return false;
         }
         let gain = self.covariance * h.transpose() * inverse;

@@ -28,12 +28,24 @@ pub struct BallParams {
     pub start_gate: f64,
     pub launch_fit_s: f64,
     pub rest_speed: f64,
-    pub sliding_deceleration: f64,
-    pub rolling_deceleration: f64,
-    pub quadratic_drag: f64,
     pub rolling_speed_ratio: f64,
+    /// Deceleration constants by direction of travel (folded into 0–45°), ascending angles.
+    pub friction_by_direction: Vec<DirectionalFriction>,
     pub drag_learning_rate: f64,
     pub drag_factor_bounds: (f64, f64),
+}
+
+/// Deceleration = constant + quadratic_drag·v² for a ball travelling at `angle_deg` to a
+/// field axis.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DirectionalFriction {
+    pub angle_deg: f64,
+    /// Constant part while sliding [m/s²].
+    pub sliding: f64,
+    /// Constant part while rolling [m/s²].
+    pub rolling: f64,
+    /// [1/m]
+    pub quadratic_drag: f64,
 }
 
 /// Other players' settings.
@@ -119,8 +131,10 @@ impl WorldParams {
         positive("start_gate", b.start_gate);
         positive("launch_fit_s", b.launch_fit_s);
         positive("rest_speed", b.rest_speed);
-        positive("sliding_deceleration", b.sliding_deceleration);
-        positive("rolling_deceleration", b.rolling_deceleration);
+        for (i, f) in b.friction_by_direction.iter().enumerate() {
+            positive(&format!("friction_by_direction[{i}].sliding"), f.sliding);
+            positive(&format!("friction_by_direction[{i}].rolling"), f.rolling);
+        }
         positive("fallen_head_height", self.players.fallen_head_height);
         positive("forget_after_s", self.players.forget_after_s);
         let mut non_negative = |name: &str, v: f64| {
@@ -130,7 +144,12 @@ impl WorldParams {
         };
         non_negative("vision_sigma_per_metre", l.vision_sigma_per_metre);
         non_negative("odometry_sigma_per_metre", l.odometry_sigma_per_metre);
-        non_negative("quadratic_drag", b.quadratic_drag);
+        for (i, f) in b.friction_by_direction.iter().enumerate() {
+            non_negative(
+                &format!("friction_by_direction[{i}].quadratic_drag"),
+                f.quadratic_drag,
+            );
+        }
         non_negative("drag_learning_rate", b.drag_learning_rate);
         let mut fraction = |name: &str, v: f64| {
             if !(v.is_finite() && v > 0.0 && v <= 1.0) {
@@ -149,6 +168,19 @@ impl WorldParams {
         if !(lo.is_finite() && hi.is_finite() && 0.0 < lo && lo <= 1.0 && 1.0 <= hi) {
             problems.push(format!(
                 "`drag_factor_bounds` must satisfy 0 < low ≤ 1 ≤ high, not ({lo}, {hi})"
+            ));
+        }
+        let angles: Vec<f64> = b
+            .friction_by_direction
+            .iter()
+            .map(|f| f.angle_deg)
+            .collect();
+        let ascending = angles.windows(2).all(|w| w[0] < w[1]);
+        let in_range = angles.iter().all(|a| (0.0..=45.0).contains(a));
+        if angles.is_empty() || !ascending || !in_range {
+            problems.push(format!(
+                "`friction_by_direction` needs at least one entry with ascending angles in 0–45°, \
+                 got {angles:?}"
             ));
         }
         if l.lost_after_rejected_frames == 0 {
@@ -172,12 +204,14 @@ mod tests {
     fn invalid_values_are_reported_by_name() {
         let text = BUILTIN
             .replace("rolling_speed_ratio: 0.7135", "rolling_speed_ratio: 1.5")
-            .replace("outlier_gate: 16.0", "outlier_gate: -1.0");
+            .replace("outlier_gate: 16.0", "outlier_gate: -1.0")
+            .replace("angle_deg: 45.0", "angle_deg: 5.0");
         let err = WorldParams::from_ron("w.ron", &text)
             .unwrap_err()
             .to_string();
         assert!(err.contains("rolling_speed_ratio"), "{err}");
         assert!(err.contains("outlier_gate"), "{err}");
+        assert!(err.contains("friction_by_direction"), "{err}");
         let err = WorldParams::from_ron("w.ron", "WorldParams(").unwrap_err();
         assert!(matches!(err, ParamsError::Syntax { .. }), "{err}");
     }

@@ -36,7 +36,7 @@ fn localizes_from_synthetic_vision_with_head_panning() {
 fn relocalizes_after_being_moved_and_survives_no_landmarks() {
     let model = t1();
     let field = FieldGeometry::builtin("fifa7vs7").unwrap();
-    let mut scene = Scene::new(&model, &field);
+    let scene = Scene::new(&model, &field);
     let mut world = World::new(&model, "Libero", 2);
     let a = Scene::torso(5.0, -3.0, 0.66, 0.0, 0.0, 0.0);
     for cycle in 0..20 {
