@@ -4,6 +4,7 @@
 //! Switching between skills blends the joint targets over the walk's `settle_s`, so no skill
 //! has to start from an exact posture.
 
+pub mod getup;
 pub mod intent;
 pub mod params;
 pub mod pose;
@@ -22,6 +23,7 @@ use libero_world::World;
 pub enum ActiveSkill {
     Stand,
     Walk,
+    GetUp,
 }
 
 /// A blend from the previous skill's last pose into the current skill's output.
@@ -37,6 +39,7 @@ pub struct Skills {
     params: SkillParams,
     stand: Vec<f64>,
     walk: Walk,
+    get_up: getup::GetUp,
     active: ActiveSkill,
     blend: Option<Blend>,
     /// The pose sent last cycle [deg per joint].
@@ -50,6 +53,7 @@ impl Skills {
         let stand = params.stand_pose(model)?;
         Ok(Self {
             walk: Walk::new(model)?,
+            get_up: getup::GetUp::new(),
             params,
             last_pose: stand.clone(),
             pose: stand.clone(),
@@ -65,7 +69,11 @@ impl Skills {
 
     /// Swap in new parameters (hot reload, optimizer trials). The stand pose follows at once;
     /// the walk picks the new numbers up from its next cycle.
-    pub fn set_params(&mut self, model: &RobotModel, params: SkillParams) -> Result<(), ParamsError> {
+    pub fn set_params(
+        &mut self,
+        model: &RobotModel,
+        params: SkillParams,
+    ) -> Result<(), ParamsError> {
         params.validate(model)?;
         self.stand = params.stand_pose(model)?;
         self.params = params;
@@ -115,15 +123,36 @@ impl Skills {
             } => walk::walk_to::velocity_towards(target, heading_deg, walk_params)
                 .map(|v| v.capped(max_speed_m_s)),
         };
-        let active = if request.is_some() || self.walk.is_stepping() {
-            self.walk.update(world, request, walk_params, &mut self.pose);
+        let getting_up = self.get_up.update(
+            world,
+            intent.body == BodyIntent::GetUp,
+            &self.params.get_up,
+            model,
+            &mut self.pose,
+        );
+        let active = if getting_up {
+            self.walk.reset();
+            ActiveSkill::GetUp
+        } else if request.is_some() || self.walk.is_stepping() {
+            self.walk
+                .update(world, request, walk_params, &mut self.pose);
             ActiveSkill::Walk
         } else {
             ActiveSkill::Stand
         };
         self.switch_to(active, world.time);
-        self.apply_blend(world.time);
+        if active != ActiveSkill::GetUp {
+            // The get-up motion starts from the measured angles and must not be softened.
+            self.apply_blend(world.time);
+        } else {
+            self.blend = None;
+        }
         out.hold_pose(model, &self.pose);
+        if active == ActiveSkill::GetUp {
+            for (joint, g) in &self.params.get_up.gains {
+                out.set_gains(model, joint, g.kp, g.kd);
+            }
+        }
         if self.active == ActiveSkill::Walk {
             for (joint, g) in &self.params.walk.leg_gains {
                 for side in ["left", "right"] {

@@ -1,5 +1,6 @@
 //! Skill parameters as RON data, checked against the robot model on load.
 
+use crate::getup::GetUpParams;
 use crate::walk::WalkParams;
 use libero_model::RobotModel;
 use serde::{Deserialize, Serialize};
@@ -22,6 +23,7 @@ pub struct SkillParams {
     pub stand: BTreeMap<String, f64>,
     pub look_around: LookAround,
     pub walk: WalkParams,
+    pub get_up: GetUpParams,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -85,7 +87,9 @@ impl SkillParams {
 
     /// The parameters as RON text (for writing tuned values back).
     pub fn to_ron(&self) -> String {
-        let config = ron::ser::PrettyConfig::new().depth_limit(3).struct_names(true);
+        let config = ron::ser::PrettyConfig::new()
+            .depth_limit(3)
+            .struct_names(true);
         ron::ser::to_string_pretty(self, config).expect("skill parameters always serialise")
     }
 
@@ -97,6 +101,7 @@ impl SkillParams {
             message,
         };
         self.walk.validate().map_err(invalid)?;
+        self.get_up.validate(model).map_err(invalid)?;
         Ok(())
     }
 

@@ -18,6 +18,7 @@ fn main() {
             &params,
             Episode {
                 start: [-10.0, 0.0, 0.0],
+                lying: None,
                 settle_s: 1.0,
                 script: move |_w: &libero_world::World, t: f64| {
                     (t < secs).then(|| Intent {
@@ -32,12 +33,27 @@ fn main() {
             },
         )
         .unwrap();
-    for s in rec.samples.iter().step_by(std::env::var("EVERY").ok().and_then(|s| s.parse().ok()).unwrap_or(25)) {
+    for s in rec.samples.iter().step_by(
+        std::env::var("EVERY")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(25),
+    ) {
         println!(
             "t {:5.2} pos {:7.3} {:7.3} {:5.3} yaw {:6.1} pitch {:5.1} roll {:5.1} {:?}",
-            s.t, s.position[0], s.position[1], s.position[2], s.yaw_deg, s.pitch_deg, s.roll_deg, s.posture
+            s.t,
+            s.position[0],
+            s.position[1],
+            s.position[2],
+            s.yaw_deg,
+            s.pitch_deg,
+            s.roll_deg,
+            s.posture
         );
     }
     println!("first fall {:?}", rec.first_fall_s());
-    println!("velocity after 2 s {:?}", measure::mean_velocity(&rec, 2.0, secs));
+    println!(
+        "velocity after 2 s {:?}",
+        measure::mean_velocity(&rec, 2.0, secs)
+    );
 }

@@ -64,7 +64,9 @@ impl CmaEs {
     pub fn new(mean: Vec<f64>, sigma: f64, lambda: Option<usize>, seed: u64) -> Self {
         let n = mean.len().max(1);
         let nf = n as f64;
-        let lambda = lambda.unwrap_or(4 + (3.0 * nf.ln()).floor() as usize).max(2);
+        let lambda = lambda
+            .unwrap_or(4 + (3.0 * nf.ln()).floor() as usize)
+            .max(2);
         let mu = lambda / 2;
         let raw: Vec<f64> = (0..mu)
             .map(|i| ((lambda as f64 + 1.0) / 2.0).ln() - ((i + 1) as f64).ln())
@@ -76,7 +78,8 @@ impl CmaEs {
         let d_sigma = 1.0 + 2.0 * (((mu_eff - 1.0) / (nf + 1.0)).sqrt() - 1.0).max(0.0) + c_sigma;
         let c_c = (4.0 + mu_eff / nf) / (nf + 4.0 + 2.0 * mu_eff / nf);
         let c_1 = 2.0 / ((nf + 1.3).powi(2) + mu_eff);
-        let c_mu = (1.0 - c_1).min(2.0 * (mu_eff - 2.0 + 1.0 / mu_eff) / ((nf + 2.0).powi(2) + mu_eff));
+        let c_mu =
+            (1.0 - c_1).min(2.0 * (mu_eff - 2.0 + 1.0 / mu_eff) / ((nf + 2.0).powi(2) + mu_eff));
         Self {
             n,
             lambda,
@@ -135,7 +138,9 @@ impl CmaEs {
         }
         self.mean = &old_mean + self.sigma * &y_w;
         // C^(-1/2) · y_w through the eigen decomposition.
-        let inv_sqrt = &self.basis * DMatrix::from_diagonal(&self.scales.map(|s| 1.0 / s)) * self.basis.transpose();
+        let inv_sqrt = &self.basis
+            * DMatrix::from_diagonal(&self.scales.map(|s| 1.0 / s))
+            * self.basis.transpose();
         self.p_sigma = (1.0 - self.c_sigma) * &self.p_sigma
             + (self.c_sigma * (2.0 - self.c_sigma) * self.mu_eff).sqrt() * (&inv_sqrt * &y_w);
         self.generation += 1;
@@ -143,7 +148,8 @@ impl CmaEs {
         let decay = 1.0 - (1.0 - self.c_sigma).powi(2 * self.generation as i32);
         let h_sigma = norm / decay.sqrt() / self.chi_n < 1.4 + 2.0 / (self.n as f64 + 1.0);
         let h = if h_sigma { 1.0 } else { 0.0 };
-        self.p_c = (1.0 - self.c_c) * &self.p_c + h * (self.c_c * (2.0 - self.c_c) * self.mu_eff).sqrt() * &y_w;
+        self.p_c = (1.0 - self.c_c) * &self.p_c
+            + h * (self.c_c * (2.0 - self.c_c) * self.mu_eff).sqrt() * &y_w;
         let mut rank_mu = DMatrix::zeros(self.n, self.n);
         for (w, y) in self.weights.iter().zip(&ys) {
             rank_mu += *w * y * y.transpose();

@@ -36,6 +36,20 @@ impl Course {
         }
     }
 
+    /// Rising to `speed` straight ahead: a third of the time at 40 %, a third at 70 %, the
+    /// rest at full speed (the optimiser's forward course: gradual, so early candidates that
+    /// only manage slow walking still score).
+    pub fn rising(speed: f64, seconds: f64) -> Self {
+        let third = seconds / 3.0;
+        Self {
+            legs: vec![
+                leg(third, 0.4 * speed, 0.0, 0.0),
+                leg(third, 0.7 * speed, 0.0, 0.0),
+                leg(seconds - 2.0 * third, speed, 0.0, 0.0),
+            ],
+        }
+    }
+
     /// The optimiser's standard course: forward at rising speeds, curves, sideways, turning on
     /// the spot and backwards, with changes mid-walk.
     pub fn standard() -> Self {
@@ -84,7 +98,9 @@ impl Course {
     }
 
     /// A script for [`crate::Episode`] that follows the course and ends early at a fall.
-    pub fn script(&self) -> impl FnMut(&libero_world::World, f64) -> Option<Intent> + Clone + Send + 'static {
+    pub fn script(
+        &self,
+    ) -> impl FnMut(&libero_world::World, f64) -> Option<Intent> + Clone + Send + 'static {
         let course = self.clone();
         move |world, t| {
             if world.body.posture != libero_world::Posture::Upright {
@@ -115,7 +131,10 @@ pub fn progress(course: &Course, rec: &Recording) -> f64 {
         let Some(l) = course.at(a.t) else { break };
         let yaw = a.yaw_deg.to_radians();
         let (dx, dy) = (b.position[0] - a.position[0], b.position[1] - a.position[1]);
-        let local = [dx * yaw.cos() + dy * yaw.sin(), -dx * yaw.sin() + dy * yaw.cos()];
+        let local = [
+            dx * yaw.cos() + dy * yaw.sin(),
+            -dx * yaw.sin() + dy * yaw.cos(),
+        ];
         let speed = l.forward_m_s.hypot(l.sideways_m_s);
         if speed > 1e-6 {
             let dir = [l.forward_m_s / speed, l.sideways_m_s / speed];

@@ -3,6 +3,7 @@
 use libero_agent::{run_agent, AgentConfig, AgentStats, Decider, Player};
 use libero_model::RobotModel;
 use libero_server::{Monitor, ServerOptions, ServerProcess};
+use libero_skills::getup::Lying;
 use libero_skills::{Intent, SkillParams, Skills};
 use libero_world::{Posture, World};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -84,6 +85,8 @@ impl Recording {
 pub struct Episode<S> {
     /// Where the monitor places the robot: world x, y [m], heading [deg].
     pub start: [f64; 3],
+    /// Place the robot lying face down or on its back instead of standing.
+    pub lying: Option<Lying>,
     /// Stand this long after being placed before the script starts [s].
     pub settle_s: f64,
     /// Called every cycle with the world and the seconds since the script started; `None` ends
@@ -103,6 +106,8 @@ pub struct Trial {
 
 /// Torso height at which the monitor places the robot: soles just on the ground (§3.2).
 const PLACE_TORSO_Z_M: f64 = 0.6735;
+/// Torso height at which a lying robot is placed (just above its resting height).
+const LYING_TORSO_Z_M: f64 = 0.25;
 const TEAM: &str = "Libero";
 /// Tries per episode when the server dies while the agent joins.
 const JOIN_ATTEMPTS: u32 = 3;
@@ -139,7 +144,11 @@ impl Trial {
     /// Run one episode with `params` and return what the ground truth shows. rcsssmj 0.2.1
     /// sometimes dies while an agent joins (audio engine and monitor races); then the server
     /// is restarted and the episode run again from the start.
-    pub fn run<S>(&mut self, params: &SkillParams, episode: Episode<S>) -> Result<Recording, TrialError>
+    pub fn run<S>(
+        &mut self,
+        params: &SkillParams,
+        episode: Episode<S>,
+    ) -> Result<Recording, TrialError>
     where
         S: FnMut(&World, f64) -> Option<Intent> + Clone + Send + 'static,
     {
@@ -148,6 +157,7 @@ impl Trial {
             attempt += 1;
             let copy = Episode {
                 start: episode.start,
+                lying: episode.lying,
                 settle_s: episode.settle_s,
                 script: episode.script.clone(),
             };
@@ -165,12 +175,19 @@ impl Trial {
     pub fn restart(&mut self) -> Result<(), TrialError> {
         self.server.restart()?;
         let monitor = Monitor::connect(self.server.monitor_port).map_err(TrialError::Monitor)?;
-        *self.monitor.lock().map_err(|_| TrialError::Monitor(std::io::Error::other("monitor lock poisoned")))? =
+        *self
+            .monitor
+            .lock()
+            .map_err(|_| TrialError::Monitor(std::io::Error::other("monitor lock poisoned")))? =
             monitor;
         Ok(())
     }
 
-    fn run_once<S>(&mut self, params: &SkillParams, episode: Episode<S>) -> Result<Recording, TrialError>
+    fn run_once<S>(
+        &mut self,
+        params: &SkillParams,
+        episode: Episode<S>,
+    ) -> Result<Recording, TrialError>
     where
         S: FnMut(&World, f64) -> Option<Intent> + Send + 'static,
     {
@@ -178,10 +195,29 @@ impl Trial {
         let skills = Skills::new(&self.model, params.clone())?;
         let recording = Arc::new(Mutex::new(Recording::default()));
         let shutdown = Arc::new(AtomicBool::new(false));
-        let place = format!(
-            "(agent (unum {UNUM}) (team Left) (move {} {} {PLACE_TORSO_Z_M} {}))",
-            episode.start[0], episode.start[1], episode.start[2]
-        );
+        let [x, y, heading] = episode.start;
+        let place = match episode.lying {
+            None => format!(
+                "(agent (unum {UNUM}) (team Left) (move {x} {y} {PLACE_TORSO_Z_M} {heading}))"
+            ),
+            Some(lying) => {
+                // Heading about z, then pitched ±90° about the body's y axis onto the ground.
+                let (h, p) = (
+                    heading.to_radians() / 2.0,
+                    match lying {
+                        Lying::Front => std::f64::consts::FRAC_PI_4,
+                        Lying::Back => -std::f64::consts::FRAC_PI_4,
+                    },
+                );
+                let (w, qx, qy, qz) = (
+                    h.cos() * p.cos(),
+                    -h.sin() * p.sin(),
+                    h.cos() * p.sin(),
+                    h.sin() * p.cos(),
+                );
+                format!("(agent (unum {UNUM}) (team Left) (move3d {x} {y} {LYING_TORSO_Z_M} {w} {qx} {qy} {qz}))")
+            }
+        };
         let decider = ScriptedDecider {
             script: episode.script,
             settle_s: episode.settle_s,
@@ -245,7 +281,9 @@ where
             self.placed_at = Some(world.time);
             return stand;
         }
-        let Some(placed) = self.placed_at else { return stand };
+        let Some(placed) = self.placed_at else {
+            return stand;
+        };
         let t = world.time - placed - self.settle_s;
         if t < 0.0 {
             return stand;
@@ -268,9 +306,13 @@ where
 fn sample(world: &World, t: f64) -> Sample {
     let position = world.truth.torso_position.unwrap_or([f64::NAN; 3]);
     let [w, x, y, z] = world.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
-    let yaw_deg = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z)).to_degrees();
+    let yaw_deg = (2.0 * (w * z + x * y))
+        .atan2(1.0 - 2.0 * (y * y + z * z))
+        .to_degrees();
     let pitch_deg = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin().to_degrees();
-    let roll_deg = (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y)).to_degrees();
+    let roll_deg = (2.0 * (w * x + y * z))
+        .atan2(1.0 - 2.0 * (x * x + y * y))
+        .to_degrees();
     Sample {
         t,
         position,

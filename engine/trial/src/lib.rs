@@ -5,6 +5,7 @@
 //! with the monitor, lets it settle, runs the script and records the server's ground truth.
 //! Ground truth is used here only to *measure*; the skills never see it.
 
+pub mod bench;
 pub mod cmaes;
 pub mod course;
 pub mod episode;

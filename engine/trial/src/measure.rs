@@ -5,7 +5,11 @@ use crate::episode::{Recording, Sample};
 /// Mean velocity over the samples with `t` in `[from_s, to_s]`, in the robot's starting frame:
 /// (forward m/s, left m/s, turn deg/s). `None` with fewer than two samples in the window.
 pub fn mean_velocity(rec: &Recording, from_s: f64, to_s: f64) -> Option<[f64; 3]> {
-    let window: Vec<&Sample> = rec.samples.iter().filter(|s| s.t >= from_s && s.t <= to_s).collect();
+    let window: Vec<&Sample> = rec
+        .samples
+        .iter()
+        .filter(|s| s.t >= from_s && s.t <= to_s)
+        .collect();
     let (first, last) = (window.first()?, window.last()?);
     let dt = last.t - first.t;
     if dt <= 0.0 {
@@ -43,7 +47,8 @@ pub fn forward_distance(rec: &Recording) -> f64 {
         return 0.0;
     };
     let h = first.yaw_deg.to_radians();
-    (last.position[0] - first.position[0]) * h.cos() + (last.position[1] - first.position[1]) * h.sin()
+    (last.position[0] - first.position[0]) * h.cos()
+        + (last.position[1] - first.position[1]) * h.sin()
 }
 
 #[cfg(test)]
@@ -65,7 +70,11 @@ mod tests {
     #[test]
     fn velocities_are_taken_in_the_starting_frame_and_turns_unwrap() {
         let rec = Recording {
-            samples: vec![s(0.0, 0.0, 0.0, 90.0), s(1.0, 0.0, 0.5, 170.0), s(2.0, -0.2, 1.0, -110.0)],
+            samples: vec![
+                s(0.0, 0.0, 0.0, 90.0),
+                s(1.0, 0.0, 0.5, 170.0),
+                s(2.0, -0.2, 1.0, -110.0),
+            ],
             intents: vec![],
         };
         let [f, l, w] = mean_velocity(&rec, 0.0, 2.0).unwrap();

@@ -44,10 +44,30 @@ pub fn walk_tunables() -> Vec<Tunable> {
         tunable!(sway_m, 0.0, 0.06, walk.sway_m),
         tunable!(sway_phase_lead, 0.0, 0.4, walk.sway_phase_lead),
         tunable!(arm_swing_deg_per_m, -200.0, 200.0, walk.arm_swing_deg_per_m),
-        tunable!(ankle_pitch_per_gyro, -0.3, 0.3, walk.balance.ankle_pitch_per_gyro),
-        tunable!(ankle_pitch_per_tilt, -1.5, 1.5, walk.balance.ankle_pitch_per_tilt),
-        tunable!(hip_pitch_per_gyro, -0.3, 0.3, walk.balance.hip_pitch_per_gyro),
-        tunable!(ankle_roll_per_gyro, -0.3, 0.3, walk.balance.ankle_roll_per_gyro),
+        tunable!(
+            ankle_pitch_per_gyro,
+            -0.3,
+            0.3,
+            walk.balance.ankle_pitch_per_gyro
+        ),
+        tunable!(
+            ankle_pitch_per_tilt,
+            -1.5,
+            1.5,
+            walk.balance.ankle_pitch_per_tilt
+        ),
+        tunable!(
+            hip_pitch_per_gyro,
+            -0.3,
+            0.3,
+            walk.balance.hip_pitch_per_gyro
+        ),
+        tunable!(
+            ankle_roll_per_gyro,
+            -0.3,
+            0.3,
+            walk.balance.ankle_roll_per_gyro
+        ),
         tunable!(hip_roll_per_gyro, -0.3, 0.3, walk.balance.hip_roll_per_gyro),
     ]
 }
@@ -82,11 +102,16 @@ pub struct Outcome {
 }
 
 /// Cost of `params` on `course`: −progress, plus the fall penalty if it fell.
-pub fn evaluate(trial: &mut Trial, params: &SkillParams, course: &Course) -> Result<f64, TrialError> {
+pub fn evaluate(
+    trial: &mut Trial,
+    params: &SkillParams,
+    course: &Course,
+) -> Result<f64, TrialError> {
     let rec = trial.run(
         params,
         Episode {
             start: START,
+            lying: None,
             settle_s: 1.0,
             script: course.script(),
         },
@@ -94,7 +119,8 @@ pub fn evaluate(trial: &mut Trial, params: &SkillParams, course: &Course) -> Res
     let mut cost = -progress(course, &rec);
     if let Some(t) = rec.first_fall_s().or_else(|| {
         // The script stops at the agent's own fall detection; a short recording is a fall too.
-        (rec.samples.last().map_or(0.0, |s| s.t) < course.duration_s() - 0.1).then(|| rec.samples.last().map_or(0.0, |s| s.t))
+        (rec.samples.last().map_or(0.0, |s| s.t) < course.duration_s() - 0.1)
+            .then(|| rec.samples.last().map_or(0.0, |s| s.t))
     }) {
         cost += FALL_PENALTY * (1.0 - 0.5 * t / course.duration_s());
     }
@@ -102,7 +128,10 @@ pub fn evaluate(trial: &mut Trial, params: &SkillParams, course: &Course) -> Res
 }
 
 fn to_normalised(params: &SkillParams, tunables: &[Tunable]) -> Vec<f64> {
-    tunables.iter().map(|t| ((t.get)(params) - t.lo) / (t.hi - t.lo)).collect()
+    tunables
+        .iter()
+        .map(|t| ((t.get)(params) - t.lo) / (t.hi - t.lo))
+        .collect()
 }
 
 fn from_normalised(base: &SkillParams, x: &[f64], tunables: &[Tunable]) -> SkillParams {
@@ -125,10 +154,17 @@ pub fn optimize(
     options: &Options,
     mut report: impl FnMut(usize, f64, f64),
 ) -> Result<Outcome, TrialError> {
-    let mut trials = (0..options.servers.max(1)).map(|_| Trial::start()).collect::<Result<Vec<_>, _>>()?;
+    let mut trials = (0..options.servers.max(1))
+        .map(|_| Trial::start())
+        .collect::<Result<Vec<_>, _>>()?;
     let start_cost = evaluate(&mut trials[0], start, &options.course)?;
     let mut best = (start_cost, start.clone());
-    let mut es = CmaEs::new(to_normalised(start, tunables), options.sigma, options.population, options.seed);
+    let mut es = CmaEs::new(
+        to_normalised(start, tunables),
+        options.sigma,
+        options.population,
+        options.seed,
+    );
     let mut history = Vec::new();
     for generation in 1..=options.generations {
         let xs = es.ask();
@@ -197,7 +233,11 @@ pub fn write_back(text: &str, best: &SkillParams, tunables: &[Tunable]) -> Resul
         let key = format!("{}:", t.name);
         let hits: Vec<usize> = out.match_indices(&key).map(|(i, _)| i).collect();
         let &[at] = hits.as_slice() else {
-            return Err(format!("`{}` occurs {} times in the file, expected once", t.name, hits.len()));
+            return Err(format!(
+                "`{}` occurs {} times in the file, expected once",
+                t.name,
+                hits.len()
+            ));
         };
         let value_start = at + key.len();
         let rest = &out[value_start..];
@@ -207,7 +247,10 @@ pub fn write_back(text: &str, best: &SkillParams, tunables: &[Tunable]) -> Resul
             .unwrap_or(rest.len() - skip);
         let value = (t.get)(best);
         let formatted = format!("{:.4}", value);
-        out.replace_range(value_start + skip..value_start + skip + number_len, &formatted);
+        out.replace_range(
+            value_start + skip..value_start + skip + number_len,
+            &formatted,
+        );
     }
     Ok(out)
 }

@@ -42,7 +42,8 @@ pub fn corrections(p: &BalanceParams, attitude: &Attitude, lean_deg: f64) -> Cor
     let pitch_error = attitude.pitch_deg - lean_deg;
     Corrections {
         ankle_pitch: limit(
-            p.ankle_pitch_per_gyro * attitude.pitch_rate_deg_s + p.ankle_pitch_per_tilt * pitch_error,
+            p.ankle_pitch_per_gyro * attitude.pitch_rate_deg_s
+                + p.ankle_pitch_per_tilt * pitch_error,
         ),
         hip_pitch: limit(p.hip_pitch_per_gyro * attitude.pitch_rate_deg_s),
         ankle_roll: limit(p.ankle_roll_per_gyro * attitude.roll_rate_deg_s),

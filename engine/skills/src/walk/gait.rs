@@ -58,7 +58,9 @@ impl FootOffset {
     }
 
     pub fn is_neutral(&self, tolerance: f64) -> bool {
-        self.x.abs() < tolerance && self.y.abs() < tolerance && self.yaw_deg.abs() < tolerance * 100.0
+        self.x.abs() < tolerance
+            && self.y.abs() < tolerance
+            && self.yaw_deg.abs() < tolerance * 100.0
     }
 }
 

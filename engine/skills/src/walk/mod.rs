@@ -49,7 +49,9 @@ impl Velocity {
     }
 
     fn is_zero(&self) -> bool {
-        self.forward_m_s.abs() < 1e-4 && self.sideways_m_s.abs() < 1e-4 && self.turn_deg_s.abs() < 1e-2
+        self.forward_m_s.abs() < 1e-4
+            && self.sideways_m_s.abs() < 1e-4
+            && self.turn_deg_s.abs() < 1e-2
     }
 }
 
@@ -76,7 +78,9 @@ impl LegJoints {
     fn find(model: &RobotModel, side: &str) -> Result<Self, KinematicsError> {
         let id = |short: &str| {
             let name = format!("{side}_{short}");
-            model.joint_id(&name).ok_or(KinematicsError::UnknownJoint(name))
+            model
+                .joint_id(&name)
+                .ok_or(KinematicsError::UnknownJoint(name))
         };
         Ok(Self {
             hip_pitch: id("hip_pitch")?,
@@ -113,7 +117,10 @@ impl Walk {
             LegIk::new(model, &kin, Side::Right)?,
         ];
         Ok(Self {
-            joints: [LegJoints::find(model, "left")?, LegJoints::find(model, "right")?],
+            joints: [
+                LegJoints::find(model, "left")?,
+                LegJoints::find(model, "right")?,
+            ],
             kin,
             legs,
             gait: Gait::default(),
@@ -196,15 +203,23 @@ impl Walk {
         self.solve(world, &placements, p, pose);
     }
 
-    fn solve(&mut self, world: &World, soles: &[SolePlacement; 2], p: &WalkParams, pose: &mut [f64]) {
-        let level_to_torso = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -p.torso_lean_deg.to_radians());
+    fn solve(
+        &mut self,
+        world: &World,
+        soles: &[SolePlacement; 2],
+        p: &WalkParams,
+        pose: &mut [f64],
+    ) {
+        let level_to_torso =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -p.torso_lean_deg.to_radians());
         self.angles.copy_from_slice(pose);
         for (leg, sole) in self.legs.iter().zip(soles) {
             let in_level = Isometry3::from_parts(
                 Translation3::new(sole.x, sole.y, sole.z),
                 UnitQuaternion::from_axis_angle(&Vector3::z_axis(), sole.yaw_deg.to_radians()),
             );
-            let in_torso = Isometry3::from_parts(Translation3::identity(), level_to_torso) * in_level;
+            let in_torso =
+                Isometry3::from_parts(Translation3::identity(), level_to_torso) * in_level;
             // The IK never writes NaN and returns the closest pose when out of reach, which
             // is the best the robot can do; an error only means a non-finite target.
             if let Err(e) = leg.solve(&self.kin, &in_torso, &mut self.angles) {
@@ -248,7 +263,9 @@ impl Gait {
 pub fn clamp_command(v: Velocity, p: &WalkParams) -> Velocity {
     Velocity {
         forward_m_s: v.forward_m_s.clamp(-p.max_backward_m_s, p.max_forward_m_s),
-        sideways_m_s: v.sideways_m_s.clamp(-p.max_sideways_m_s, p.max_sideways_m_s),
+        sideways_m_s: v
+            .sideways_m_s
+            .clamp(-p.max_sideways_m_s, p.max_sideways_m_s),
         turn_deg_s: v.turn_deg_s.clamp(-p.max_turn_deg_s, p.max_turn_deg_s),
     }
 }
@@ -258,7 +275,11 @@ fn rate_limit(from: Velocity, to: Velocity, p: &WalkParams, dt: f64) -> Velocity
     let towards = |a: f64, b: f64, max_step: f64| a + (b - a).clamp(-max_step, max_step);
     Velocity {
         forward_m_s: towards(from.forward_m_s, to.forward_m_s, p.accel_forward_m_s2 * dt),
-        sideways_m_s: towards(from.sideways_m_s, to.sideways_m_s, p.accel_sideways_m_s2 * dt),
+        sideways_m_s: towards(
+            from.sideways_m_s,
+            to.sideways_m_s,
+            p.accel_sideways_m_s2 * dt,
+        ),
         turn_deg_s: towards(from.turn_deg_s, to.turn_deg_s, p.accel_turn_deg_s2 * dt),
     }
 }

@@ -110,22 +110,87 @@ impl WalkParams {
     pub fn validate(&self) -> Check {
         let w = "walk";
         in_range(&format!("{w}.step_period_s"), self.step_period_s, 0.1, 1.0)?;
-        in_range(&format!("{w}.torso_height_m"), self.torso_height_m, 0.3, 0.7)?;
-        in_range(&format!("{w}.torso_lean_deg"), self.torso_lean_deg, -20.0, 30.0)?;
-        in_range(&format!("{w}.foot_x_offset_m"), self.foot_x_offset_m, -0.15, 0.15)?;
-        in_range(&format!("{w}.foot_y_offset_m"), self.foot_y_offset_m, 0.05, 0.2)?;
+        in_range(
+            &format!("{w}.torso_height_m"),
+            self.torso_height_m,
+            0.3,
+            0.7,
+        )?;
+        in_range(
+            &format!("{w}.torso_lean_deg"),
+            self.torso_lean_deg,
+            -20.0,
+            30.0,
+        )?;
+        in_range(
+            &format!("{w}.foot_x_offset_m"),
+            self.foot_x_offset_m,
+            -0.15,
+            0.15,
+        )?;
+        in_range(
+            &format!("{w}.foot_y_offset_m"),
+            self.foot_y_offset_m,
+            0.05,
+            0.2,
+        )?;
         in_range(&format!("{w}.step_height_m"), self.step_height_m, 0.0, 0.15)?;
         in_range(&format!("{w}.sway_m"), self.sway_m, 0.0, 0.1)?;
-        in_range(&format!("{w}.sway_phase_lead"), self.sway_phase_lead, 0.0, 0.5)?;
+        in_range(
+            &format!("{w}.sway_phase_lead"),
+            self.sway_phase_lead,
+            0.0,
+            0.5,
+        )?;
         in_range(&format!("{w}.settle_s"), self.settle_s, 0.0, 3.0)?;
-        in_range(&format!("{w}.max_forward_m_s"), self.max_forward_m_s, 0.0, 2.0)?;
-        in_range(&format!("{w}.max_backward_m_s"), self.max_backward_m_s, 0.0, 2.0)?;
-        in_range(&format!("{w}.max_sideways_m_s"), self.max_sideways_m_s, 0.0, 1.0)?;
-        in_range(&format!("{w}.max_turn_deg_s"), self.max_turn_deg_s, 0.0, 360.0)?;
-        in_range(&format!("{w}.accel_forward_m_s2"), self.accel_forward_m_s2, 0.01, 10.0)?;
-        in_range(&format!("{w}.accel_sideways_m_s2"), self.accel_sideways_m_s2, 0.01, 10.0)?;
-        in_range(&format!("{w}.accel_turn_deg_s2"), self.accel_turn_deg_s2, 1.0, 2000.0)?;
-        in_range(&format!("{w}.arm_swing_deg_per_m"), self.arm_swing_deg_per_m, -500.0, 500.0)?;
+        in_range(
+            &format!("{w}.max_forward_m_s"),
+            self.max_forward_m_s,
+            0.0,
+            2.0,
+        )?;
+        in_range(
+            &format!("{w}.max_backward_m_s"),
+            self.max_backward_m_s,
+            0.0,
+            2.0,
+        )?;
+        in_range(
+            &format!("{w}.max_sideways_m_s"),
+            self.max_sideways_m_s,
+            0.0,
+            1.0,
+        )?;
+        in_range(
+            &format!("{w}.max_turn_deg_s"),
+            self.max_turn_deg_s,
+            0.0,
+            360.0,
+        )?;
+        in_range(
+            &format!("{w}.accel_forward_m_s2"),
+            self.accel_forward_m_s2,
+            0.01,
+            10.0,
+        )?;
+        in_range(
+            &format!("{w}.accel_sideways_m_s2"),
+            self.accel_sideways_m_s2,
+            0.01,
+            10.0,
+        )?;
+        in_range(
+            &format!("{w}.accel_turn_deg_s2"),
+            self.accel_turn_deg_s2,
+            1.0,
+            2000.0,
+        )?;
+        in_range(
+            &format!("{w}.arm_swing_deg_per_m"),
+            self.arm_swing_deg_per_m,
+            -500.0,
+            500.0,
+        )?;
         for (joint, g) in &self.leg_gains {
             if !LEG_JOINTS.contains(&joint.as_str()) {
                 return Err(format!(
@@ -143,12 +208,32 @@ impl WalkParams {
         gain("hip_pitch_per_gyro", b.hip_pitch_per_gyro)?;
         gain("ankle_roll_per_gyro", b.ankle_roll_per_gyro)?;
         gain("hip_roll_per_gyro", b.hip_roll_per_gyro)?;
-        in_range(&format!("{w}.balance.step_x_per_tilt_m"), b.step_x_per_tilt_m, -0.05, 0.05)?;
-        in_range(&format!("{w}.balance.max_correction_deg"), b.max_correction_deg, 0.0, 30.0)?;
+        in_range(
+            &format!("{w}.balance.step_x_per_tilt_m"),
+            b.step_x_per_tilt_m,
+            -0.05,
+            0.05,
+        )?;
+        in_range(
+            &format!("{w}.balance.max_correction_deg"),
+            b.max_correction_deg,
+            0.0,
+            30.0,
+        )?;
         let t = &self.walk_to;
         in_range(&format!("{w}.walk_to.gain_per_s"), t.gain_per_s, 0.01, 10.0)?;
-        in_range(&format!("{w}.walk_to.turn_gain_per_s"), t.turn_gain_per_s, 0.01, 10.0)?;
-        in_range(&format!("{w}.walk_to.face_target_beyond_m"), t.face_target_beyond_m, 0.0, 100.0)?;
+        in_range(
+            &format!("{w}.walk_to.turn_gain_per_s"),
+            t.turn_gain_per_s,
+            0.01,
+            10.0,
+        )?;
+        in_range(
+            &format!("{w}.walk_to.face_target_beyond_m"),
+            t.face_target_beyond_m,
+            0.0,
+            100.0,
+        )?;
         in_range(&format!("{w}.walk_to.arrive_m"), t.arrive_m, 0.001, 1.0)?;
         in_range(&format!("{w}.walk_to.arrive_deg"), t.arrive_deg, 0.1, 90.0)?;
         Ok(())

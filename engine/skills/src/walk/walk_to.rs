@@ -22,7 +22,11 @@ pub fn velocity_towards(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> O
         (t.gain_per_s * x, t.gain_per_s * y, heading_deg)
     };
     // Keep the direction of travel when a component exceeds its limit: scale both together.
-    let forward_limit = if forward >= 0.0 { p.max_forward_m_s } else { p.max_backward_m_s };
+    let forward_limit = if forward >= 0.0 {
+        p.max_forward_m_s
+    } else {
+        p.max_backward_m_s
+    };
     let scale = [
         forward.abs() / forward_limit.max(1e-6),
         sideways.abs() / p.max_sideways_m_s.max(1e-6),

@@ -1,0 +1,197 @@
+//! The locomotion measurements behind `libero bench walk` and the live tests.
+
+use crate::course::Course;
+use crate::episode::{Episode, Recording, Trial, TrialError};
+use crate::measure::mean_velocity;
+use libero_skills::{BodyIntent, Intent, SkillParams};
+
+/// Seconds at the start of a measurement that are left out (the walk accelerating).
+pub const RAMP_S: f64 = 2.0;
+
+/// Where measurements start: in our half, facing +x, clear of the ball at the centre.
+const START: [f64; 3] = [-24.0, 0.0, 0.0];
+
+/// One measured figure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// Mean speed after the ramp, along the measured axis [m/s or deg/s].
+    pub speed: f64,
+    /// Seconds measured (after the ramp).
+    pub seconds: f64,
+    /// Distance along the axis over the measured time [m or deg].
+    pub distance: f64,
+    /// Seconds until the first fall, if any.
+    pub fell_at: Option<f64>,
+}
+
+fn figure(rec: &Recording, axis: usize) -> Figure {
+    let end = rec.samples.last().map_or(0.0, |s| s.t);
+    let v = mean_velocity(rec, RAMP_S, end).unwrap_or([0.0; 3]);
+    let seconds = (end - RAMP_S).max(0.0);
+    Figure {
+        speed: v[axis],
+        seconds,
+        distance: v[axis] * seconds,
+        fell_at: rec.first_fall_s(),
+    }
+}
+
+/// Walk with one command until `until` says stop (or a fall).
+fn walk(
+    trial: &mut Trial,
+    params: &SkillParams,
+    command: [f64; 3],
+    max_s: f64,
+    until_forward_m: Option<f64>,
+) -> Result<Recording, TrialError> {
+    let script = move |world: &libero_world::World, t: f64| {
+        let fallen = world.body.posture != libero_world::Posture::Upright;
+        let far = match (until_forward_m, world.truth.torso_position) {
+            (Some(d), Some(p)) => p[0] - START[0] >= d,
+            _ => false,
+        };
+        (t < max_s && !fallen && !far).then_some(Intent {
+            body: BodyIntent::Walk {
+                forward_m_s: command[0],
+                sideways_m_s: command[1],
+                turn_deg_s: command[2],
+            },
+            ..Default::default()
+        })
+    };
+    trial.run(
+        params,
+        Episode {
+            start: START,
+            lying: None,
+            settle_s: 1.0,
+            script,
+        },
+    )
+}
+
+/// Full-speed forward walk over `distance_m` (measured from the start, speed from after the
+/// ramp), giving up after `max_s`.
+pub fn forward(
+    trial: &mut Trial,
+    params: &SkillParams,
+    distance_m: f64,
+    max_s: f64,
+) -> Result<Figure, TrialError> {
+    let rec = walk(
+        trial,
+        params,
+        [params.walk.max_forward_m_s, 0.0, 0.0],
+        max_s,
+        Some(distance_m),
+    )?;
+    Ok(figure(&rec, 0))
+}
+
+/// Full-speed sideways walk to the left.
+pub fn sideways(
+    trial: &mut Trial,
+    params: &SkillParams,
+    seconds: f64,
+) -> Result<Figure, TrialError> {
+    let rec = walk(
+        trial,
+        params,
+        [0.0, params.walk.max_sideways_m_s, 0.0],
+        seconds,
+        None,
+    )?;
+    Ok(figure(&rec, 1))
+}
+
+/// Full-rate turn on the spot (counter-clockwise).
+pub fn turning(
+    trial: &mut Trial,
+    params: &SkillParams,
+    seconds: f64,
+) -> Result<Figure, TrialError> {
+    let rec = walk(
+        trial,
+        params,
+        [0.0, 0.0, params.walk.max_turn_deg_s],
+        seconds,
+        None,
+    )?;
+    Ok(figure(&rec, 2))
+}
+
+/// A course of random commands changing every 2–5 s. Returns the seconds walked and the time
+/// of the first fall (the walk does not continue after a fall).
+pub fn random_course(
+    trial: &mut Trial,
+    params: &SkillParams,
+    seconds: f64,
+    seed: u64,
+) -> Result<(f64, Option<f64>), TrialError> {
+    let w = &params.walk;
+    let course = Course::random(
+        seconds,
+        [w.max_forward_m_s, w.max_sideways_m_s, w.max_turn_deg_s],
+        seed,
+    );
+    let rec = trial.run(
+        params,
+        Episode {
+            start: [-5.0, 0.0, 0.0],
+            lying: None,
+            settle_s: 1.0,
+            script: course.script(),
+        },
+    )?;
+    let walked = rec.samples.last().map_or(0.0, |s| s.t);
+    let fell = rec
+        .first_fall_s()
+        .or((walked < seconds - 0.1).then_some(walked));
+    Ok((walked, fell))
+}
+
+/// One get-up from lying `lying`: seconds until the robot stood (torso above standing height
+/// and upright for half a second), or `None` if it did not within `limit_s`.
+pub fn get_up(
+    trial: &mut Trial,
+    params: &SkillParams,
+    lying: libero_skills::getup::Lying,
+    heading_deg: f64,
+    limit_s: f64,
+) -> Result<Option<f64>, TrialError> {
+    let script = move |_: &libero_world::World, t: f64| (t < limit_s).then(Intent::default);
+    let rec = trial.run(
+        params,
+        Episode {
+            start: [-20.0, 5.0, heading_deg],
+            lying: Some(lying),
+            settle_s: 0.0,
+            script,
+        },
+    )?;
+    Ok(stood_up_at(&rec))
+}
+
+/// Torso at least this high counts as standing (walking height ≈ 0.6 m, lying ≈ 0.2 m).
+const STANDING_TORSO_Z_M: f64 = 0.55;
+/// Standing must last this long to count.
+const STANDING_HOLD_S: f64 = 0.5;
+
+/// When the robot first stood and stayed standing for [`STANDING_HOLD_S`].
+pub fn stood_up_at(rec: &Recording) -> Option<f64> {
+    let up = |s: &crate::Sample| {
+        s.position[2] > STANDING_TORSO_Z_M && s.pitch_deg.abs() < 30.0 && s.roll_deg.abs() < 30.0
+    };
+    let mut since: Option<f64> = None;
+    for s in &rec.samples {
+        if up(s) {
+            let start = *since.get_or_insert(s.t);
+            if s.t - start >= STANDING_HOLD_S {
+                return Some(start);
+            }
+        } else {
+            since = None;
+        }
+    }
+    None
+}

@@ -1,0 +1,74 @@
+//! `libero bench walk|kick`: locomotion measurements on a real server started by the command.
+
+use super::CliResult;
+use clap::{Args, ValueEnum};
+use libero_model::RobotModel;
+use libero_skills::SkillParams;
+use libero_trial::{bench, Trial};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Measure {
+    /// Forward over 20 m, sideways, turning on the spot, 5 minutes of random commands.
+    Walk,
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    pub what: Measure,
+    /// A skill parameter file instead of the built-in one.
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// The CI version: 10 m forward, 10 s sideways and turning, 60 s of random commands.
+    #[arg(long)]
+    pub short: bool,
+    /// Seed of the random course.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+pub fn run(args: BenchArgs) -> CliResult {
+    let model = RobotModel::builtin("T1")?;
+    let params = match &args.params {
+        Some(path) => SkillParams::load(path, &model)?,
+        None => SkillParams::builtin(&model)?,
+    };
+    match args.what {
+        Measure::Walk => bench_walk(&params, &args),
+    }
+}
+
+fn fall_note(fell_at: Option<f64>) -> String {
+    fell_at.map_or_else(|| "no fall".to_string(), |t| format!("FELL at {t:.1} s"))
+}
+
+fn bench_walk(params: &SkillParams, args: &BenchArgs) -> CliResult {
+    let (distance, seconds, course_s) = if args.short {
+        (10.0, 10.0, 60.0)
+    } else {
+        (20.0, 20.0, 300.0)
+    };
+    let mut trial = Trial::start()?;
+    let f = bench::forward(&mut trial, params, distance, distance / 0.2)?;
+    println!(
+        "forward {:.2} m/s ({:.1} m in {:.1} s after a {:.0} s start, {})",
+        f.speed,
+        f.distance,
+        f.seconds,
+        bench::RAMP_S,
+        fall_note(f.fell_at)
+    );
+    let s = bench::sideways(&mut trial, params, seconds)?;
+    println!("sideways {:.2} m/s ({})", s.speed, fall_note(s.fell_at));
+    let t = bench::turning(&mut trial, params, seconds)?;
+    println!("turn {:.0} deg/s ({})", t.speed, fall_note(t.fell_at));
+    let (walked, fell) = bench::random_course(&mut trial, params, course_s, args.seed)?;
+    println!(
+        "course {:.0} s of random commands: {} falls ({walked:.0} s walked{})",
+        course_s,
+        usize::from(fell.is_some()),
+        fell.map_or(String::new(), |t| format!(", fell at {t:.1} s"))
+    );
+    Ok(ExitCode::SUCCESS)
+}
