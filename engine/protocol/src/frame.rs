@@ -167,7 +167,7 @@ mod tests {
     impl Read for Stutter {
         fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
             self.calls += 1;
-            if self.calls % 2 == 0 {
+            if self.calls.is_multiple_of(2) {
                 return Err(io::ErrorKind::WouldBlock.into());
             }
             let n = 3.min(buf.len()).min(self.data.len() - self.pos);
