@@ -47,8 +47,12 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
     init_logging();
     // Real-time mode: cycles are 20 ms of wall time, so "three cycles" means what it means in
     // a match.
-    let server = ServerProcess::start(ServerOptions { sync: false, realtime: true, ..ServerOptions::default() })
-        .expect("starting rcssservermj");
+    let server = ServerProcess::start(ServerOptions {
+        sync: false,
+        realtime: true,
+        ..ServerOptions::default()
+    })
+    .expect("starting rcssservermj");
     let dirs = copy_of_shipped_data();
     let common = dirs[0].join("common.ron");
     let original = std::fs::read_to_string(&common).unwrap();
@@ -57,14 +61,28 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
     player.share_trace = true;
     let stats = Arc::clone(player.stats());
     let stop = Arc::new(AtomicBool::new(false));
-    let team = Team::start(&AgentConfig::new("127.0.0.1", server.agent_port), vec![player], Arc::clone(&stop));
+    let team = Team::start(
+        &AgentConfig::new("127.0.0.1", server.agent_port),
+        vec![player],
+        Arc::clone(&stop),
+    );
     let trace = || stats.trace().unwrap_or_default();
-    wait_until(Duration::from_secs(20), || trace().contains("Action LookAround=Running"))
-        .unwrap_or_else(|| panic!("before kick-off the player stands and looks around; trace: {}", trace()));
+    wait_until(Duration::from_secs(20), || {
+        trace().contains("Action LookAround=Running")
+    })
+    .unwrap_or_else(|| {
+        panic!(
+            "before kick-off the player stands and looks around; trace: {}",
+            trace()
+        )
+    });
     assert!(trace().contains("Action Stand=Running"), "{}", trace());
 
     // 1. A good edit: hold position without scanning.
-    let edited = original.replace(r#"Action(name: "LookAround", amplitude: 1.2, period: 4.0),"#, r#"Wait(seconds: 1000.0),"#);
+    let edited = original.replace(
+        r#"Action(name: "LookAround", amplitude: 1.2, period: 4.0),"#,
+        r#"Wait(seconds: 1000.0),"#,
+    );
     assert_ne!(edited, original, "the edit must change the file");
     let written = Instant::now();
     save(&common, &edited);
@@ -73,28 +91,60 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
     wait_until(Duration::from_secs(5), || !trace().contains("LookAround"))
         .unwrap_or_else(|| panic!("the edited tree never ran; trace: {}", trace()));
     let cycles_after_window = AgentStats::get(&stats.percepts) - cycles_at_window_end;
-    eprintln!("edit active {:?} after the write, {cycles_after_window} cycles after the debounce window", written.elapsed());
-    assert!(cycles_after_window <= 3, "new tree active only {cycles_after_window} cycles after the debounce window");
+    eprintln!(
+        "edit active {:?} after the write, {cycles_after_window} cycles after the debounce window",
+        written.elapsed()
+    );
+    assert!(
+        cycles_after_window <= 3,
+        "new tree active only {cycles_after_window} cycles after the debounce window"
+    );
     assert!(trace().contains("Action Stand=Running"), "{}", trace());
-    assert!(events(&source).iter().any(|e| matches!(e, ReloadEvent::Reloaded { recovered: false, .. })));
+    assert!(events(&source).iter().any(|e| matches!(
+        e,
+        ReloadEvent::Reloaded {
+            recovered: false,
+            ..
+        }
+    )));
 
     // 2. A broken edit: the team keeps playing the last good tree and the error is reported.
     let percepts_before = AgentStats::get(&stats.percepts);
-    save(&common, &edited.replace(r#"Action("Stand")"#, r#"Action("Stnd")"#));
+    save(
+        &common,
+        &edited.replace(r#"Action("Stand")"#, r#"Action("Stnd")"#),
+    );
     let rejected = wait_until(Duration::from_secs(3), || {
         events(&source).iter().any(|e| matches!(e, ReloadEvent::Rejected { report } if report.render_text().contains("Stnd")))
     });
     assert!(rejected.is_some(), "the broken edit was not reported");
     std::thread::sleep(Duration::from_millis(300));
-    assert!(trace().contains("Action Stand=Running") && !trace().contains("LookAround"), "old tree kept: {}", trace());
-    assert!(AgentStats::get(&stats.percepts) > percepts_before + 10, "the player kept playing");
+    assert!(
+        trace().contains("Action Stand=Running") && !trace().contains("LookAround"),
+        "old tree kept: {}",
+        trace()
+    );
+    assert!(
+        AgentStats::get(&stats.percepts) > percepts_before + 10,
+        "the player kept playing"
+    );
 
     // 3. The fix: the original tree runs again and the recovery is reported.
     save(&common, &original);
-    wait_until(Duration::from_secs(3), || trace().contains("Action LookAround=Running"))
-        .unwrap_or_else(|| panic!("the fixed tree never ran; trace: {}", trace()));
+    wait_until(Duration::from_secs(3), || {
+        trace().contains("Action LookAround=Running")
+    })
+    .unwrap_or_else(|| panic!("the fixed tree never ran; trace: {}", trace()));
     let recovered = wait_until(Duration::from_secs(1), || {
-        events(&source).iter().any(|e| matches!(e, ReloadEvent::Reloaded { recovered: true, .. }))
+        events(&source).iter().any(|e| {
+            matches!(
+                e,
+                ReloadEvent::Reloaded {
+                    recovered: true,
+                    ..
+                }
+            )
+        })
     });
     assert!(recovered.is_some(), "the recovery was not reported");
     assert_eq!(AgentStats::get(&stats.connections), 1);

@@ -210,12 +210,17 @@ impl ServerProcess {
             }
             std::thread::sleep(Duration::from_millis(10));
         }
-        Err(ServerError::StartTimeout(START_TIMEOUT.as_secs(), self.log_path().display().to_string()))
+        Err(ServerError::StartTimeout(
+            START_TIMEOUT.as_secs(),
+            self.log_path().display().to_string(),
+        ))
     }
 
     /// The server's monitor connection (kick-off, ball placement, game state).
     pub fn monitor(&mut self) -> &mut Monitor {
-        self.monitor.as_mut().expect("a started server has a monitor")
+        self.monitor
+            .as_mut()
+            .expect("a started server has a monitor")
     }
 
     /// Whether the process is still running.

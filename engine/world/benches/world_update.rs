@@ -18,7 +18,10 @@ fn bench(c: &mut Criterion) {
     let model = RobotModel::builtin("T1").unwrap();
     let payload = sample("T1_sync_msg0000.txt");
     let percept = parse_percept(&payload, ServerKind::RcssMj).unwrap();
-    assert!(percept.vision.as_ref().is_some_and(|v| !v.landmarks.is_empty()));
+    assert!(percept
+        .vision
+        .as_ref()
+        .is_some_and(|v| !v.landmarks.is_empty()));
     let mut blind = percept.clone();
     blind.vision = None;
     let mut world = World::new(&model, "Probe", 1);
