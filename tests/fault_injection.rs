@@ -47,7 +47,11 @@ impl AgentUnderTest {
         config.silence_timeout = silence;
         config.greeting_delay = Duration::ZERO;
         let thread = std::thread::spawn(move || run_agent(&config, &mut player, &flag).unwrap());
-        Self { stats, stop, thread }
+        Self {
+            stats,
+            stop,
+            thread,
+        }
     }
 
     /// Stop the agent; panics (failing the test) if its thread panicked.
@@ -87,7 +91,11 @@ fn garbage_and_unknown_items_each_get_exactly_one_full_reply() {
     for input in inputs {
         s.write_all(&frame(input)).unwrap();
         let reply = read_reply(&mut s).expect("one reply per message, even for garbage");
-        assert_eq!(reply.matches("(lle1 ").count(), 1, "all joints every cycle: {reply}");
+        assert_eq!(
+            reply.matches("(lle1 ").count(),
+            1,
+            "all joints every cycle: {reply}"
+        );
         assert_eq!(reply.matches('(').count(), reply.matches(')').count());
     }
     assert_eq!(AgentStats::get(&agent.stats.replies), 6);
@@ -106,7 +114,10 @@ fn a_frame_split_into_single_bytes_is_reassembled() {
         s.flush().unwrap();
     }
     let reply = read_reply(&mut s).expect("reply after the last byte");
-    assert!(reply.contains("(beam "), "first cycle in BeforeKickOff beams: {reply}");
+    assert!(
+        reply.contains("(beam "),
+        "first cycle in BeforeKickOff beams: {reply}"
+    );
     assert_eq!(AgentStats::get(&agent.stats.unreadable), 0);
     agent.finish();
 }
@@ -135,7 +146,10 @@ fn a_huge_length_prefix_or_a_truncated_frame_ends_the_connection_and_the_agent_r
     drop(s2);
     let mut s3 = accept_agent(&l);
     s3.write_all(&full).unwrap();
-    assert!(read_reply(&mut s3).is_some(), "the agent works on the third connection");
+    assert!(
+        read_reply(&mut s3).is_some(),
+        "the agent works on the third connection"
+    );
     assert_eq!(AgentStats::get(&agent.stats.connections), 3);
     let grown = resident_kib().saturating_sub(before);
     assert!(grown < 8 * 1024, "resident memory grew by {grown} KiB");
@@ -151,7 +165,9 @@ fn a_silent_server_is_given_up_on_and_reconnected_to() {
     let mut s = accept_agent(&l);
     s.write_all(&frame(GOOD.as_bytes())).unwrap();
     assert!(read_reply(&mut s).is_some());
-    let took = wait_until(Duration::from_secs(2), || AgentStats::get(&agent.stats.connections) == 2);
+    let took = wait_until(Duration::from_secs(2), || {
+        AgentStats::get(&agent.stats.connections) == 2
+    });
     assert!(took.is_some());
     agent.finish();
 }
@@ -163,7 +179,12 @@ fn an_unreachable_server_is_a_clear_error_when_attempts_are_bounded() {
     let mut player = build::standing_player(&t1(), "Faulty", 1).unwrap();
     let mut config = AgentConfig::new("127.0.0.1", port);
     config.max_connect_failures = Some(3);
-    let err = run_agent(&config, &mut player, &AtomicBool::new(false)).unwrap_err().to_string();
+    let err = run_agent(&config, &mut player, &AtomicBool::new(false))
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("could not reach the server"), "{err}");
-    assert!(err.contains("libero server start"), "the error says what to do: {err}");
+    assert!(
+        err.contains("libero server start"),
+        "the error says what to do: {err}"
+    );
 }

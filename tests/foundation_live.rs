@@ -10,7 +10,10 @@ use std::time::Duration;
 /// the torso origin's height above the soles.
 fn nominal_stand_height() -> f64 {
     let model = t1();
-    let pose = SkillParams::builtin(&model).unwrap().stand_pose(&model).unwrap();
+    let pose = SkillParams::builtin(&model)
+        .unwrap()
+        .stand_pose(&model)
+        .unwrap();
     let kin = Kinematics::new(&model);
     let sole = kin.frame_pose("left_sole", &pose).unwrap();
     -sole.translation.vector.z
@@ -19,7 +22,12 @@ fn nominal_stand_height() -> f64 {
 fn torso_heights(team: &libero_agent::Team) -> Vec<(u32, f64)> {
     team.stats
         .iter()
-        .map(|(unum, s)| (*unum, s.truth_position().expect("ground truth from the server")[2]))
+        .map(|(unum, s)| {
+            (
+                *unum,
+                s.truth_position().expect("ground truth from the server")[2],
+            )
+        })
         .collect()
 }
 
@@ -35,13 +43,28 @@ fn assert_all_standing(team: &libero_agent::Team, nominal: f64, when: &str) {
 fn assert_healthy(team: &libero_agent::Team) {
     for (unum, s) in &team.stats {
         let percepts = AgentStats::get(&s.percepts);
-        assert_eq!(AgentStats::get(&s.connections), 1, "player {unum} reconnected");
-        assert_eq!(AgentStats::get(&s.missed_cycles), 0, "player {unum} missed cycles");
-        assert_eq!(AgentStats::get(&s.unreadable), 0, "player {unum} got unreadable percepts");
+        assert_eq!(
+            AgentStats::get(&s.connections),
+            1,
+            "player {unum} reconnected"
+        );
+        assert_eq!(
+            AgentStats::get(&s.missed_cycles),
+            0,
+            "player {unum} missed cycles"
+        );
+        assert_eq!(
+            AgentStats::get(&s.unreadable),
+            0,
+            "player {unum} got unreadable percepts"
+        );
         assert!(percepts > 0);
         // Replies are counted after sending; the agent may be inside a cycle right now.
         let replies = AgentStats::get(&s.replies);
-        assert!(percepts - replies <= 1, "player {unum}: {percepts} percepts, {replies} replies");
+        assert!(
+            percepts - replies <= 1,
+            "player {unum}: {percepts} percepts, {replies} replies"
+        );
     }
 }
 
@@ -65,7 +88,11 @@ fn seven_agents_stand_thirty_seconds_and_survive_a_second_team_joining() {
     for (team, sign) in [(&home, -1.0), (&away, 1.0)] {
         for (unum, s) in &team.stats {
             let [x, _, _] = s.truth_position().unwrap();
-            assert!(x * sign > 0.5, "player {unum} of the {} team stands at x = {x:.2}", if sign < 0.0 { "left" } else { "right" });
+            assert!(
+                x * sign > 0.5,
+                "player {unum} of the {} team stands at x = {x:.2}",
+                if sign < 0.0 { "left" } else { "right" }
+            );
         }
     }
     assert_healthy(&home);
@@ -84,16 +111,22 @@ fn agents_reconnect_within_two_seconds_of_a_restarted_server() {
     server.kill();
     std::thread::sleep(Duration::from_millis(500));
     server.restart().expect("server restarts on the same ports");
-    let before: Vec<u64> = team.stats.iter().map(|(_, s)| AgentStats::get(&s.percepts)).collect();
+    let before: Vec<u64> = team
+        .stats
+        .iter()
+        .map(|(_, s)| AgentStats::get(&s.percepts))
+        .collect();
     let took = wait_until(Duration::from_secs(10), || {
-        team.stats
-            .iter()
-            .zip(&before)
-            .all(|((_, s), &b)| AgentStats::get(&s.connections) >= 2 && AgentStats::get(&s.percepts) > b)
+        team.stats.iter().zip(&before).all(|((_, s), &b)| {
+            AgentStats::get(&s.connections) >= 2 && AgentStats::get(&s.percepts) > b
+        })
     })
     .expect("agents did not resume after the restart");
     eprintln!("agents resumed {took:?} after the server was back");
-    assert!(took <= Duration::from_secs(2), "resumed only after {took:?}");
+    assert!(
+        took <= Duration::from_secs(2),
+        "resumed only after {took:?}"
+    );
     // Back in business: beamed and standing again.
     wait_sim_seconds(&team.stats[0].1, 3.0);
     assert_all_standing(&team, nominal_stand_height(), "after reconnecting");

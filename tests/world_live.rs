@@ -245,7 +245,10 @@ fn ball_stop_point_predicted_from_the_first_third_of_a_second() {
         let robot = start - 2.0 * dir;
         move_agent(&mut monitor, robot.x, robot.y, heading.to_degrees());
         monitor
-            .send(&format!("(ball (pos {} {} 0.11)(vel 0 0 0))", start.x, start.y))
+            .send(&format!(
+                "(ball (pos {} {} 0.11)(vel 0 0 0))",
+                start.x, start.y
+            ))
             .unwrap();
         // Settle and watch the ball lie still.
         for _ in 0..60 {

@@ -10,7 +10,10 @@ use std::time::{Duration, Instant};
 
 /// Log to the test output (shown for failing tests).
 pub fn init_logging() {
-    let _ = env_logger::builder().is_test(true).filter_level(log::LevelFilter::Info).try_init();
+    let _ = env_logger::builder()
+        .is_test(true)
+        .filter_level(log::LevelFilter::Info)
+        .try_init();
 }
 
 /// A real rcssservermj in fast mode (`--sync --no-realtime`) on free loopback ports.
@@ -19,9 +22,14 @@ pub fn init_logging() {
 /// cores, servers running side by side would make each other's timing checks meaningless.
 pub fn fast_server() -> LiveServer {
     init_logging();
-    let turn = LIVE_TURN.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let turn = LIVE_TURN
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
     let server = ServerProcess::start(ServerOptions::default()).expect("starting rcssservermj");
-    LiveServer { server, _turn: turn }
+    LiveServer {
+        server,
+        _turn: turn,
+    }
 }
 
 static LIVE_TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -52,10 +60,15 @@ pub fn t1() -> Arc<RobotModel> {
 /// A team of standing T1 players numbered 1…n, joined one by one.
 pub fn standing_team(port: u16, team: &str, n: u32) -> (Team, Arc<AtomicBool>) {
     let model = t1();
-    let players = (1..=n).map(|u| build::standing_player(&model, team, u).unwrap()).collect();
+    let players = (1..=n)
+        .map(|u| build::standing_player(&model, team, u).unwrap())
+        .collect();
     let shutdown = Arc::new(AtomicBool::new(false));
     let config = AgentConfig::new("127.0.0.1", port);
-    (Team::start(&config, players, Arc::clone(&shutdown)), shutdown)
+    (
+        Team::start(&config, players, Arc::clone(&shutdown)),
+        shutdown,
+    )
 }
 
 /// Server time [s] an agent last saw.
@@ -69,7 +82,11 @@ pub fn wait_sim_seconds(stats: &AgentStats, seconds: f64) {
     let start = sim_time(stats);
     let deadline = Instant::now() + Duration::from_secs_f64(60.0 + seconds * 4.0);
     while sim_time(stats) < start + seconds {
-        assert!(Instant::now() < deadline, "simulated time stalled at {}", sim_time(stats));
+        assert!(
+            Instant::now() < deadline,
+            "simulated time stalled at {}",
+            sim_time(stats)
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
 }
