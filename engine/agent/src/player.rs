@@ -6,6 +6,7 @@ use crate::stats::AgentStats;
 use libero_model::RobotModel;
 use libero_protocol::{parse_percept, ActionWriter};
 use libero_skills::{Intent, JointTargets, Skills};
+use libero_world::eval_log::EvalLogger;
 use libero_world::{PlayMode, World};
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -28,6 +29,13 @@ pub struct Player {
     beamed_in: Option<PlayMode>,
     /// Publish each cycle's decision trace in the stats (for tests and live inspection).
     pub share_trace: bool,
+    eval_log: Option<EvalLog>,
+}
+
+/// Where the evaluation log goes and whether it carries decision traces.
+struct EvalLog {
+    logger: EvalLogger,
+    with_trace: bool,
 }
 
 impl Player {
@@ -53,7 +61,14 @@ impl Player {
             stats,
             beamed_in: None,
             share_trace: false,
+            eval_log: None,
         }
+    }
+
+    /// Write one evaluation-log line per cycle (estimates, ground truth, optionally the
+    /// decision trace) to `logger`.
+    pub fn log_to(&mut self, logger: EvalLogger, with_trace: bool) {
+        self.eval_log = Some(EvalLog { logger, with_trace });
     }
 
     pub fn stats(&self) -> &Arc<AgentStats> {
@@ -123,6 +138,20 @@ impl Player {
         if self.share_trace {
             if let Ok(mut trace) = self.stats.trace.lock() {
                 *trace = self.decider.trace_line();
+            }
+        }
+        if let Some(log) = &mut self.eval_log {
+            let trace = if log.with_trace {
+                self.decider.trace_line()
+            } else {
+                None
+            };
+            if let Err(e) = log.logger.write_with_trace(&self.world, trace.as_deref()) {
+                log::error!(
+                    "agent {}: evaluation log stopped: {e}",
+                    self.world.game.unum
+                );
+                self.eval_log = None;
             }
         }
         self.skills
@@ -240,5 +269,26 @@ mod tests {
         }
         // 1.02 → 1.05 is one truncated cycle; 1.06 → 1.11 skips one.
         assert_eq!(AgentStats::get(&player.stats.missed_cycles), 1);
+    }
+
+    #[test]
+    fn the_evaluation_log_has_one_json_line_per_cycle_with_ground_truth() {
+        let path = std::env::temp_dir().join(format!("libero-eval-{}.jsonl", std::process::id()));
+        let mut player = t1_player();
+        player.log_to(EvalLogger::create(&path).unwrap(), true);
+        let mut out = Vec::new();
+        player.on_percept(&sample("T1_sync_msg0000.txt"), &mut out);
+        player.on_percept(&sample("T1_sync_msg0001.txt"), &mut out);
+        drop(player);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 2);
+        assert!(lines[0].starts_with("{\"time\":667.31,"), "{}", lines[0]);
+        assert!(
+            lines[1].contains("\"truth\":{\"position\":[-2.999,21.0,0.672]"),
+            "{}",
+            lines[1]
+        );
+        let _ = std::fs::remove_file(path);
     }
 }

@@ -33,6 +33,9 @@ struct Record<'a> {
     ball: Option<&'a BallEstimate>,
     players: &'a [PlayerEstimate],
     truth: Option<Truth>,
+    /// The decision trace of the cycle (active leaves and their statuses), when requested.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    trace: Option<&'a str>,
 }
 
 /// Writes one line per [`EvalLogger::write`] call; flushes on drop.
@@ -58,6 +61,11 @@ impl<W: Write> EvalLogger<W> {
 
     /// Append the current cycle.
     pub fn write(&mut self, world: &World) -> std::io::Result<()> {
+        self.write_with_trace(world, None)
+    }
+
+    /// Append the current cycle with the decision trace that produced its intent.
+    pub fn write_with_trace(&mut self, world: &World, trace: Option<&str>) -> std::io::Result<()> {
         let record = Record {
             time: world.time,
             cycle: world.cycle,
@@ -71,6 +79,7 @@ impl<W: Write> EvalLogger<W> {
             truth: world
                 .truth_pose()
                 .map(|(position, yaw_deg)| Truth { position, yaw_deg }),
+            trace,
         };
         self.buffer.clear();
         // Non-finite numbers (an unknown σ) become `null`, keeping every line valid JSON.

@@ -1,6 +1,6 @@
 //! `libero agent`: one player.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{run_agent, AgentConfig};
@@ -25,12 +25,15 @@ pub struct AgentArgs {
     pub robot_file: Option<PathBuf>,
     #[command(flatten)]
     pub data: DataArgs,
+    #[command(flatten)]
+    pub log: LogArgs,
 }
 
 pub fn run(args: AgentArgs) -> CliResult {
     let model = load_robot(&args.robot, args.robot_file.as_ref())?;
     let source = args.data.source()?;
     let mut player = build_player(&model, &args.team, args.unum, &source)?;
+    args.log.attach(&mut player, &args.team, args.unum, false)?;
     let shutdown = ctrl_c_flag();
     run_agent(
         &AgentConfig::new(&args.host, args.port),

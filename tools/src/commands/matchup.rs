@@ -1,6 +1,6 @@
 //! `libero match`: the main job — a whole match on a server the project installs itself.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{AgentConfig, AgentStats, Team};
@@ -29,6 +29,8 @@ pub struct MatchArgs {
     /// Behavior and strategy files, used by both teams.
     #[command(flatten)]
     pub data: DataArgs,
+    #[command(flatten)]
+    pub log: LogArgs,
 }
 
 pub fn run(args: MatchArgs) -> CliResult {
@@ -57,9 +59,12 @@ pub fn run(args: MatchArgs) -> CliResult {
     let monitor = server.monitor();
     let mut teams = Vec::new();
     for name in [&args.left, &args.right] {
-        let players = (1..=args.players)
-            .map(|unum| build_player(&model, name, unum, &source))
-            .collect::<Result<Vec<_>, _>>()?;
+        let mut players = Vec::new();
+        for unum in 1..=args.players {
+            let mut player = build_player(&model, name, unum, &source)?;
+            args.log.attach(&mut player, name, unum, true)?;
+            players.push(player);
+        }
         println!("team {name}: {} players joining…", args.players);
         teams.push(Team::start(&config, players, shutdown.clone()));
     }

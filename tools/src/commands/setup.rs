@@ -68,3 +68,39 @@ pub fn build_player(
 ) -> Result<Player, Box<dyn std::error::Error>> {
     Ok(libero_agent::build::tree_player(model, team, unum, source)?)
 }
+
+/// The evaluation log: one JSON line per cycle per agent.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct LogArgs {
+    /// Write the evaluation log (estimates and ground truth, one JSON line per cycle) to FILE;
+    /// with several agents, FILE.<team>.<unum>.
+    #[arg(long, value_name = "FILE")]
+    pub log: Option<PathBuf>,
+    /// Include each cycle's decision trace (active leaves and statuses) in the log.
+    #[arg(long, requires = "log")]
+    pub trace: bool,
+}
+
+impl LogArgs {
+    /// Attach the log to `player`; `shared` names the file after team and number.
+    pub fn attach(
+        &self,
+        player: &mut Player,
+        team: &str,
+        unum: u32,
+        shared: bool,
+    ) -> Result<(), Box<dyn std::error::Error>> {
+        let Some(path) = &self.log else { return Ok(()) };
+        let path = if shared {
+            let mut name = path.as_os_str().to_owned();
+            name.push(format!(".{team}.{unum}"));
+            PathBuf::from(name)
+        } else {
+            path.clone()
+        };
+        let logger = libero_world::eval_log::EvalLogger::create(&path)
+            .map_err(|e| format!("cannot create the evaluation log {}: {e}", path.display()))?;
+        player.log_to(logger, self.trace);
+        Ok(())
+    }
+}

@@ -1,6 +1,6 @@
 //! `libero team`: N players in one process.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{simspark_team_types, AgentConfig, Team};
@@ -24,6 +24,8 @@ pub struct TeamArgs {
     pub robot: String,
     #[command(flatten)]
     pub data: DataArgs,
+    #[command(flatten)]
+    pub log: LogArgs,
 }
 
 pub fn run(args: TeamArgs) -> CliResult {
@@ -42,7 +44,9 @@ pub fn run(args: TeamArgs) -> CliResult {
         if simspark && model.server != ServerKind::SimSpark {
             return Err(format!("{name} is not a SimSpark robot").into());
         }
-        players.push(build_player(&model, &args.team, unum, &source)?);
+        let mut player = build_player(&model, &args.team, unum, &source)?;
+        args.log.attach(&mut player, &args.team, unum, true)?;
+        players.push(player);
     }
     let team = Team::start(
         &AgentConfig::new(&args.host, args.port),
