@@ -147,6 +147,37 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
         })
     });
     assert!(recovered.is_some(), "the recovery was not reported");
+    // 4. An edit visible in ground truth: hold position by walking 3 m up the field.
+    let start = stats.truth_position().expect("ground truth");
+    let target = format!(
+        "Action(name: \"WalkTo\", target: ({:.1}, {:.1})),",
+        start[0] + 3.0,
+        start[1]
+    );
+    let hold = r#"children: [
+            Action("Stand"),"#;
+    assert!(
+        original.contains(hold),
+        "HoldPosition's layout changed; update this test"
+    );
+    save(
+        &common,
+        &original.replace(hold, &format!("children: [\n            {target}")),
+    );
+    wait_until(Duration::from_secs(3), || {
+        trace().contains("Action WalkTo=Running")
+    })
+    .unwrap_or_else(|| panic!("the walking tree never ran; trace: {}", trace()));
+    let walked = wait_until(Duration::from_secs(15), || {
+        stats
+            .truth_position()
+            .is_some_and(|p| p[0] > start[0] + 0.5 && p[2] > 0.5)
+    });
+    let now = stats.truth_position().unwrap();
+    assert!(
+        walked.is_some(),
+        "the player did not walk towards the new target: {start:?} → {now:?}"
+    );
     assert_eq!(AgentStats::get(&stats.connections), 1);
     assert_eq!(AgentStats::get(&stats.unreadable), 0);
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
