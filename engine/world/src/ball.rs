@@ -4,7 +4,9 @@
 //! Observations that fit the current trajectory extend its *track*; one that does not (a kick,
 //! a referee placing the ball, our own relocalization) starts a new one. A new track that starts
 //! from a jump is assumed to be a launch without spin: the ball slides until its speed has dropped
-//! to `rolling_speed_ratio` × launch speed, then rolls. Finished roll-outs tune the drag factor.
+//! to `rolling_speed_ratio` × launch speed, then rolls. Its stop point comes from the launch
+//! table ([`crate::ball_launch`]): the server's ball curves. Finished roll-outs tune the drag
+//! factor of the straight-line model used for everything else.
 
 use crate::ball_motion::BallMotion;
 use crate::params::BallParams;
@@ -55,6 +57,8 @@ struct Tracker {
     /// How the current track started, if it started with a jump (`None`: first sight).
     launch: Option<Launch>,
     launch_speed: Option<f64>,
+    /// The launch of the current track as fitted: (launch point, heading [rad], speed).
+    launched: Option<(Vector2<f64>, f64, f64)>,
     /// Set once the track has been seen rolling: (position, speed) at that moment.
     rolling_start: Option<(Vector2<f64>, f64)>,
     learned_from_track: bool,
@@ -85,6 +89,7 @@ impl BallEstimate {
                 fit_velocity: Vector2::zeros(),
                 launch: None,
                 launch_speed: None,
+                launched: None,
                 rolling_start: None,
                 learned_from_track: false,
                 rest_position: None,
@@ -165,6 +170,7 @@ impl BallEstimate {
             t.observations.clear();
             t.observations.extend(carried.into_iter().rev());
             t.launch_speed = None;
+            t.launched = None;
             t.rest_position = None;
             t.rolling_start = None;
             t.learned_from_track = false;
@@ -227,7 +233,14 @@ impl BallEstimate {
             [0.0; 2]
         };
         self.sliding = self.sliding_at(progress.speed);
-        self.predicted_stop = (position + direction * remaining).into();
+        // A launch seen from its start stops where the server's physics takes it (curved path).
+        let stop = match t.launched {
+            Some((origin, heading, v0)) if progress.speed > 0.0 => {
+                origin + t.params.launch_table.stop_offset(v0, heading)
+            }
+            _ => position + direction * remaining,
+        };
+        self.predicted_stop = stop.into();
     }
 
     fn sliding_at(&self, speed: f64) -> bool {
@@ -354,6 +367,9 @@ struct LaunchFit {
     position: Vector2<f64>,
     velocity: Vector2<f64>,
     launch_speed: f64,
+    /// Launch point and heading [rad], the heading corrected for the curve of the path.
+    origin: Vector2<f64>,
+    heading: f64,
 }
 
 impl Tracker {
@@ -433,10 +449,19 @@ impl Tracker {
             return None;
         }
         let now_state = self.motion.advance(v0, Some(v0 * ratio), now - t0);
+        let origin = start + direction * theta[0];
+        let heading = self.params.launch_table.launch_heading(
+            v0,
+            origin,
+            self.observations.iter().map(|(t, p)| (t - t0, p.xy())),
+            direction.y.atan2(direction.x),
+        );
         Some(LaunchFit {
             position: start + direction * (theta[0] + now_state.distance),
             velocity: direction * now_state.speed,
             launch_speed: v0,
+            origin,
+            heading,
         })
     }
 
@@ -498,6 +523,7 @@ impl Tracker {
                     self.fit_position = fit.position;
                     self.fit_velocity = fit.velocity;
                     self.launch_speed = Some(fit.launch_speed);
+                    self.launched = Some((fit.origin, fit.heading, fit.launch_speed));
                 }
             } else if self.launch_speed.is_none() {
                 self.launch_speed = Some(self.fit_velocity.norm());

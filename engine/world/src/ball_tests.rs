@@ -1,35 +1,47 @@
 use super::*;
 use crate::params::WorldParams;
 
-/// Observations of a launch every 0.04 s following the motion model exactly, starting from rest.
 /// Timed ball observations.
 type Track = Vec<(f64, Vector3<f64>)>;
 
-fn launch(speed: f64, heading: f64) -> (BallEstimate, Track, Vector2<f64>) {
+/// Observations every 0.04 s of a launch from rest at 1.013 s: speed along the path by the
+/// motion model, the path turning as the launch table says (chord directions for 0.6 s, then
+/// on to the tabulated stop). Returns the estimate, the track, the tabulated stop and the
+/// motion model's straight-line stop.
+fn launch(speed: f64, heading: f64) -> (BallEstimate, Track, Vector2<f64>, Vector2<f64>) {
     let params = WorldParams::builtin().ball;
+    let table = &params.launch_table;
     let ball = BallEstimate::new(&params);
     let model = BallMotion::new(&params, 1.0, heading);
     let start = Vector2::new(-3.0, 2.0);
-    let dir = Vector2::new(heading.cos(), heading.sin());
     let roll = Some(speed * model.rolling_speed_ratio);
-    let launch_time = 1.013;
+    let (launch_time, curve_end) = (1.013, 0.6);
+    let along = |tau: f64| model.advance(speed, roll, tau.max(0.0)).distance;
+    let chord_point = |tau: f64| {
+        let a = heading + table.chord_turn(speed, heading, tau);
+        start + Vector2::new(a.cos(), a.sin()) * along(tau)
+    };
+    let stop = start + table.stop_offset(speed, heading);
+    let (bend, total) = (chord_point(curve_end), model.stop_distance(speed, roll));
     let mut obs = Vec::new();
     for k in 0..300 {
-        let t = 0.04 * k as f64;
-        let d = model
-            .advance(speed, roll, (t - launch_time).max(0.0))
-            .distance;
-        let p = start + dir * d;
-        obs.push((t, Vector3::new(p.x, p.y, 0.11)));
+        let tau = 0.04 * k as f64 - launch_time;
+        let p = if tau <= curve_end {
+            chord_point(tau)
+        } else {
+            let done = (along(tau) - along(curve_end)) / (total - along(curve_end));
+            bend + (stop - bend) * done
+        };
+        obs.push((tau + launch_time, Vector3::new(p.x, p.y, 0.11)));
     }
-    let stop = start + dir * model.stop_distance(speed, roll);
-    (ball, obs, stop)
+    let dir = Vector2::new(heading.cos(), heading.sin());
+    (ball, obs, stop, start + dir * total)
 }
 
 #[test]
 fn stop_point_from_the_first_third_of_a_second() {
     for &(speed, heading) in &[(1.0, 0.3), (3.5, -2.0), (8.0, 1.2)] {
-        let (mut ball, obs, stop) = launch(speed, heading);
+        let (mut ball, obs, stop, _) = launch(speed, heading);
         let mut predicted = None;
         for (t, p) in &obs {
             ball.update(*t, Some(*p));
@@ -51,7 +63,7 @@ fn stop_point_from_the_first_third_of_a_second() {
 
 #[test]
 fn predictions_line_crossing_and_interception() {
-    let (mut ball, obs, stop) = launch(4.0, 0.0);
+    let (mut ball, obs, _, stop) = launch(4.0, 0.0);
     for (t, p) in obs.iter().take(40) {
         ball.update(*t, Some(*p));
     }

@@ -18,6 +18,7 @@
 //! Tunable constants live in `params/world.ron` ([`WorldParams`]).
 
 pub mod ball;
+pub mod ball_launch;
 pub mod ball_motion;
 pub mod body;
 pub mod eval_log;

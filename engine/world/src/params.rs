@@ -1,6 +1,7 @@
 //! Tunable constants of the world model, read from RON and validated on load
 //! (`engine/world/params/world.ron` is the shipped default).
 
+use crate::ball_launch::LaunchTable;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -33,6 +34,8 @@ pub struct BallParams {
     pub friction_by_direction: Vec<DirectionalFriction>,
     pub drag_learning_rate: f64,
     pub drag_factor_bounds: (f64, f64),
+    /// Stop points and early chord directions of spin-free launches (server physics).
+    pub launch_table: LaunchTable,
 }
 
 /// Deceleration = constant + quadratic_drag·v² for a ball travelling at `angle_deg` to a
@@ -183,6 +186,7 @@ impl WorldParams {
                  got {angles:?}"
             ));
         }
+        problems.extend(b.launch_table.problems());
         if l.lost_after_rejected_frames == 0 {
             problems.push("`lost_after_rejected_frames` must be at least 1".into());
         }
@@ -205,13 +209,15 @@ mod tests {
         let text = BUILTIN
             .replace("rolling_speed_ratio: 0.7135", "rolling_speed_ratio: 1.5")
             .replace("outlier_gate: 16.0", "outlier_gate: -1.0")
-            .replace("angle_deg: 45.0", "angle_deg: 5.0");
+            .replace("angle_deg: 45.0", "angle_deg: 5.0")
+            .replace("chord_times: [0.1,", "chord_times: [0.7,");
         let err = WorldParams::from_ron("w.ron", &text)
             .unwrap_err()
             .to_string();
         assert!(err.contains("rolling_speed_ratio"), "{err}");
         assert!(err.contains("outlier_gate"), "{err}");
         assert!(err.contains("friction_by_direction"), "{err}");
+        assert!(err.contains("launch_table.chord_times"), "{err}");
         let err = WorldParams::from_ron("w.ron", "WorldParams(").unwrap_err();
         assert!(matches!(err, ParamsError::Syntax { .. }), "{err}");
     }
