@@ -232,11 +232,21 @@ fn read_game_state<'a>(list: List<'a>, gs: &mut GameStatePercept<'a>) -> bool {
     true
 }
 
+/// One pass over the item's children: joints are most of every message.
 fn read_joint(list: List<'_>) -> Option<JointReading<'_>> {
+    let (mut perceptor, mut angle, mut velocity) = (None, None, None);
+    for child in list.tail().filter_map(|c| c.as_list()) {
+        match child.head() {
+            Some("n") => perceptor = child.tail().next().and_then(|v| v.as_atom()),
+            Some("ax") => angle = child.tail_numbers::<1>().map(|[v]| v),
+            Some("vx") => velocity = child.tail_numbers::<1>().map(|[v]| v),
+            _ => {}
+        }
+    }
     Some(JointReading {
-        perceptor: list.value("n")?,
-        angle_deg: list.numbers::<1>("ax")?[0],
-        velocity_deg: list.numbers::<1>("vx").map(|[v]| v),
+        perceptor: perceptor?,
+        angle_deg: angle?,
+        velocity_deg: velocity,
     })
 }
 

@@ -252,15 +252,21 @@ impl LegIk {
                 (0.8, -1.5),
                 (-0.8, 1.5),
                 (-0.8, -1.5),
+                // A leg swung far forward (K1 hip pitch reaches −172°).
+                (-2.6, 0.4),
+                (-2.6, -0.4),
+                (-3.0, 0.0),
             ],
             LegKind::Nao => &[],
         };
         let bent = |hip| Some((hip, KneeBranch::Bent));
+        let straighter = |hip| Some((hip, KneeBranch::Straighter));
         // The knee axis sits slightly behind the thigh line, so a nearly straight knee has two
-        // solutions (a few degrees either side of the thigh line).
-        [bent((0.0, 0.0)), Some(((0.0, 0.0), KneeBranch::Straighter))]
+        // solutions (a few degrees either side of the thigh line); each start is tried with both.
+        [bent((0.0, 0.0)), straighter((0.0, 0.0))]
             .into_iter()
             .chain(extra.iter().copied().map(bent))
+            .chain(extra.iter().copied().map(straighter))
             .chain(std::iter::once(None))
     }
 
