@@ -298,11 +298,15 @@ fn ball_stop_point_predicted_from_the_first_third_of_a_second() {
         let roll = (stop - start).norm();
         let error = (predicted - stop).norm();
         let relative = error / roll;
+        // The error split along the launch direction and to its left.
+        let off = predicted - stop;
         eprintln!(
             "launch {k:2}: {speed:.2} m/s at {:6.1}°: rolled {roll:6.3} m, predicted stop off by \
-             {error:.3} m ({:.1} %), drag factor {:.3}",
+             {error:.3} m ({:.1} %; along {:+.3}, left {:+.3}), drag factor {:.3}",
             heading.to_degrees() % 360.0,
             100.0 * relative,
+            off.dot(&dir),
+            off.perp(&dir),
             agent.world.ball.drag_factor
         );
         relative_errors.push(relative);
