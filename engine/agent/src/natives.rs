@@ -223,7 +223,13 @@ impl Host for AgentHost<'_> {
                     .position(self.situation(), unum, Vec2 { x: 0.0, y: 0.0 })
                     .unwrap_or_else(|| self.me());
                 self.intent.beam = Some([p.x, p.y, 0.0]);
-                Status::Success
+                // Until the server has told us our side (SimSpark: after `init` took effect) a
+                // beam is not sent; keep asking.
+                if self.world.game.side.is_some() {
+                    Status::Success
+                } else {
+                    Status::Running
+                }
             }
             Some(Native::Stand) => {
                 self.intent.body = if self.world.body.posture == Posture::Upright {

@@ -157,8 +157,12 @@ impl Player {
         self.skills
             .act(&self.model, &self.world, &self.intent, &mut self.targets);
         let mode = self.world.game.play_mode;
-        let beam_now =
-            self.intent.beam.is_some() && mode.allows_beam() && self.beamed_in != Some(mode);
+        // The side must be known: the server ignores a beam from a robot whose init has not
+        // taken effect (SimSpark), and the right team's beam is mirrored (rcssservermj).
+        let beam_now = self.intent.beam.is_some()
+            && mode.allows_beam()
+            && self.world.game.side.is_some()
+            && self.beamed_in != Some(mode);
         if beam_now {
             self.beamed_in = Some(mode);
         }
@@ -212,7 +216,8 @@ mod tests {
         let decider = Box::new(StandAndBeam {
             beam_pose: [-5.0, 1.0, 0.0],
         });
-        Player::new(model, skills, decider, "Libero", 3, Arc::default())
+        // The recorded messages name the team `Probe`: that is how the player learns its side.
+        Player::new(model, skills, decider, "Probe", 3, Arc::default())
     }
 
     fn sample(name: &str) -> Vec<u8> {
@@ -290,5 +295,59 @@ mod tests {
             lines[1]
         );
         let _ = std::fs::remove_file(path);
+    }
+
+    #[test]
+    fn simspark_handshake_init_then_velocities_and_syn_every_cycle() {
+        let model = Arc::new(RobotModel::builtin("NAO_type2").unwrap());
+        let source = crate::build::load_library(&crate::build::default_data_dirs(), false).unwrap();
+        let mut player = crate::build::tree_player(&model, "Libero", 4, &source).unwrap();
+        let hello = player.greeting().unwrap();
+        assert_eq!(&hello[4..], b"(scene rsg/agent/nao/nao_hetero.rsg 2)");
+        let path = format!(
+            "{}/../../../shared/samples/simspark/agent_first20.txt",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let messages: Vec<String> = std::fs::read_to_string(path)
+            .unwrap()
+            .lines()
+            .filter(|l| l.starts_with("(time"))
+            .map(str::to_string)
+            .collect();
+        let mut beams = Vec::new();
+        for (i, message) in messages.iter().enumerate() {
+            let mut out = Vec::new();
+            player.on_percept(message.as_bytes(), &mut out);
+            let text = std::str::from_utf8(&out[4..]).unwrap();
+            if text.contains("(beam ") {
+                beams.push(i);
+            }
+            assert!(
+                text.ends_with("(syn)"),
+                "cycle {i}: every reply syncs: {text}"
+            );
+            assert_eq!(
+                text.matches("(init ").count(),
+                usize::from(i == 0),
+                "cycle {i}: init exactly once: {text}"
+            );
+            for joint in &model.joints {
+                assert!(
+                    text.contains(&format!("({} ", joint.effector)),
+                    "cycle {i}: {} missing",
+                    joint.effector
+                );
+            }
+            if i == 0 {
+                assert!(
+                    text.starts_with("(init (unum 4)(teamname Libero))"),
+                    "{text}"
+                );
+            }
+        }
+        // The third message announced our side and number; the beam waits for it (an earlier one
+        // would be ignored by the server) and is sent once.
+        assert_eq!(player.world.game.side, Some(libero_world::Side::Left));
+        assert_eq!(beams, [2]);
     }
 }

@@ -45,14 +45,23 @@ pub enum ParamsError {
     Io(String, std::io::Error),
 }
 
-const BUILTIN: &[(&str, &str)] = &[("T1", include_str!("../params/t1.ron"))];
+/// Shipped parameters by robot family: `NAO` serves every heterogeneous type (`NAO_type0`…).
+const BUILTIN: &[(&str, &str)] = &[
+    ("T1", include_str!("../params/t1.ron")),
+    ("NAO", include_str!("../params/nao.ron")),
+];
+
+/// The family of a robot model name: `NAO_type3` → `NAO`.
+fn family(model_name: &str) -> &str {
+    model_name.split('_').next().unwrap_or(model_name)
+}
 
 impl SkillParams {
     /// The shipped parameters for a robot model.
     pub fn builtin(model: &RobotModel) -> Result<Self, ParamsError> {
         let (name, text) = BUILTIN
             .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(&model.name))
+            .find(|(n, _)| n.eq_ignore_ascii_case(family(&model.name)))
             .ok_or_else(|| ParamsError::NoBuiltin(model.name.clone()))?;
         Self::from_ron(
             &format!("<builtin>/{}.ron", name.to_lowercase()),
@@ -111,7 +120,7 @@ impl SkillParams {
             file: String::new(),
             message,
         };
-        if !self.robot.eq_ignore_ascii_case(&model.name) {
+        if !self.robot.eq_ignore_ascii_case(family(&model.name)) {
             return Err(invalid(format!(
                 "parameters are for `{}`, the robot is `{}`",
                 self.robot, model.name
@@ -182,5 +191,16 @@ mod tests {
         let p = SkillParams::builtin(&t1).unwrap();
         let again = SkillParams::from_ron("again.ron", &p.to_ron(), &t1).unwrap();
         assert_eq!(p, again);
+    }
+
+    #[test]
+    fn every_nao_type_has_parameters() {
+        for t in 0..5 {
+            let nao = RobotModel::builtin(&format!("NAO_type{t}")).unwrap();
+            let params = SkillParams::builtin(&nao).unwrap_or_else(|e| panic!("type {t}: {e}"));
+            let pose = params.stand_pose(&nao).unwrap();
+            assert_eq!(pose[nao.joint_id("left_knee").unwrap()], -40.0);
+            crate::Skills::new(&nao, params).unwrap_or_else(|e| panic!("type {t}: {e}"));
+        }
     }
 }
