@@ -13,11 +13,24 @@ fn main() {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),
         None => SkillParams::builtin(&model).unwrap(),
     };
+    if std::env::var("PRE").is_ok() {
+        let f = libero_trial::bench::forward(&mut trial, &params, 10.0, 50.0).unwrap();
+        println!("pre forward {f:?}");
+        let f = libero_trial::bench::sideways(&mut trial, &params, 10.0).unwrap();
+        println!("pre sideways {f:?}");
+    }
     let rec = trial
         .run(
             &params,
             Episode {
-                start: [-10.0, 0.0, 0.0],
+                start: [
+                    std::env::var("START_X")
+                        .ok()
+                        .and_then(|s| s.parse().ok())
+                        .unwrap_or(-10.0),
+                    0.0,
+                    0.0,
+                ],
                 lying: None,
                 settle_s: 1.0,
                 script: move |_w: &libero_world::World, t: f64| {

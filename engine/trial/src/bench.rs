@@ -24,7 +24,9 @@ pub struct Figure {
     pub fell_at: Option<f64>,
 }
 
-fn figure(rec: &Recording, axis: usize) -> Figure {
+/// `stopped_early`: the script ended before its time and goal, which it only does when the
+/// agent's fall detector fired (that cycle is not recorded, so the samples may not show it).
+fn figure(rec: &Recording, axis: usize, stopped_early: bool) -> Figure {
     let end = rec.samples.last().map_or(0.0, |s| s.t);
     let v = mean_velocity(rec, RAMP_S, end).unwrap_or([0.0; 3]);
     let seconds = (end - RAMP_S).max(0.0);
@@ -32,9 +34,12 @@ fn figure(rec: &Recording, axis: usize) -> Figure {
         speed: v[axis],
         seconds,
         distance: v[axis] * seconds,
-        fell_at: rec.first_fall_s(),
+        fell_at: rec.first_fall_s().or(stopped_early.then_some(end)),
     }
 }
+
+/// Sample spacing [s]: a recording ending more than this before its time limit stopped early.
+const CYCLE_S: f64 = 0.02;
 
 /// Walk with one command until `until` says stop (or a fall).
 fn walk(
@@ -43,7 +48,7 @@ fn walk(
     command: [f64; 3],
     max_s: f64,
     until_forward_m: Option<f64>,
-) -> Result<Recording, TrialError> {
+) -> Result<(Recording, bool), TrialError> {
     let script = move |world: &libero_world::World, t: f64| {
         let fallen = world.body.posture != libero_world::Posture::Upright;
         let far = match (until_forward_m, world.truth.torso_position) {
@@ -59,7 +64,7 @@ fn walk(
             ..Default::default()
         })
     };
-    trial.run(
+    let rec = trial.run(
         params,
         Episode {
             start: START,
@@ -67,7 +72,16 @@ fn walk(
             settle_s: 1.0,
             script,
         },
-    )
+    )?;
+    let last = rec.samples.last();
+    let out_of_time = last.is_some_and(|s| s.t >= max_s - 2.0 * CYCLE_S);
+    let arrived = match (until_forward_m, last) {
+        // The last recorded sample is one cycle short of the goal at most.
+        (Some(d), Some(s)) => s.position[0] - START[0] >= d - 0.05,
+        _ => false,
+    };
+    let stopped_early = !out_of_time && !arrived;
+    Ok((rec, stopped_early))
 }
 
 /// Full-speed forward walk over `distance_m` (measured from the start, speed from after the
@@ -78,14 +92,14 @@ pub fn forward(
     distance_m: f64,
     max_s: f64,
 ) -> Result<Figure, TrialError> {
-    let rec = walk(
+    let (rec, early) = walk(
         trial,
         params,
         [params.walk.max_forward_m_s, 0.0, 0.0],
         max_s,
         Some(distance_m),
     )?;
-    Ok(figure(&rec, 0))
+    Ok(figure(&rec, 0, early))
 }
 
 /// Full-speed sideways walk to the left.
@@ -94,14 +108,14 @@ pub fn sideways(
     params: &SkillParams,
     seconds: f64,
 ) -> Result<Figure, TrialError> {
-    let rec = walk(
+    let (rec, early) = walk(
         trial,
         params,
         [0.0, params.walk.max_sideways_m_s, 0.0],
         seconds,
         None,
     )?;
-    Ok(figure(&rec, 1))
+    Ok(figure(&rec, 1, early))
 }
 
 /// Full-rate turn on the spot (counter-clockwise).
@@ -110,14 +124,14 @@ pub fn turning(
     params: &SkillParams,
     seconds: f64,
 ) -> Result<Figure, TrialError> {
-    let rec = walk(
+    let (rec, early) = walk(
         trial,
         params,
         [0.0, 0.0, params.walk.max_turn_deg_s],
         seconds,
         None,
     )?;
-    Ok(figure(&rec, 2))
+    Ok(figure(&rec, 2, early))
 }
 
 /// A course of random commands changing every 2–5 s. Returns the seconds walked and the time
