@@ -1,6 +1,6 @@
 //! Assembling a player from data: robot model, skill parameters, decision source.
 
-use crate::decide::{LibrarySource, StandAndBeam, TreeDecider};
+use crate::decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
 use crate::natives::{vocabulary, Natives};
 use crate::player::Player;
 use crate::stats::AgentStats;
@@ -41,10 +41,20 @@ pub fn standing_player(
     team: &str,
     unum: u32,
 ) -> Result<Player, BuildError> {
-    let skills = Skills::new(model, SkillParams::builtin(model)?)?;
     let decider = Box::new(StandAndBeam {
         beam_pose: fallback_kickoff_pose(unum),
     });
+    player_with(model, team, unum, decider)
+}
+
+/// A player with the model's built-in skill parameters and `decider`.
+fn player_with(
+    model: &Arc<RobotModel>,
+    team: &str,
+    unum: u32,
+    decider: Box<dyn Decider>,
+) -> Result<Player, BuildError> {
+    let skills = Skills::new(model, SkillParams::builtin(model)?)?;
     Ok(Player::new(
         Arc::clone(model),
         skills,
@@ -90,15 +100,7 @@ pub fn tree_player(
     unum: u32,
     source: &LibrarySource,
 ) -> Result<Player, BuildError> {
-    let skills = Skills::new(model, SkillParams::builtin(model)?)?;
     let natives = Natives::new(&vocabulary());
     let decider = Box::new(TreeDecider::new(source.clone(), natives, unum));
-    Ok(Player::new(
-        Arc::clone(model),
-        skills,
-        decider,
-        team,
-        unum,
-        Arc::new(AgentStats::default()),
-    ))
+    player_with(model, team, unum, decider)
 }

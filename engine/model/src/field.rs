@@ -3,7 +3,7 @@
 //! All coordinates are in the server's global frame: origin at the centre spot on the ground, +x
 //! towards the right goal, +y left of +x, +z up, metres.
 
-use crate::location::{Located, SourceLocation};
+use crate::location::{parse_ron, Located, SourceLocation};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::path::Path;
@@ -105,16 +105,8 @@ impl FieldGeometry {
 
     /// Parse and validate RON text; `file` names the source in error messages.
     pub fn from_ron(file: &str, text: &str) -> Result<Self, FieldError> {
-        let field: FieldGeometry = ron::from_str(text).map_err(|e| {
-            FieldError::Invalid(vec![Located {
-                file: file.to_string(),
-                at: SourceLocation {
-                    line: e.position.line,
-                    column: e.position.col,
-                },
-                message: e.code.to_string(),
-            }])
-        })?;
+        let field: FieldGeometry =
+            parse_ron(file, text).map_err(|e| FieldError::Invalid(vec![e]))?;
         let errors = field.problems(file, text);
         if errors.is_empty() {
             Ok(field)

@@ -39,6 +39,18 @@ impl fmt::Display for SourceLocation {
     }
 }
 
+/// Deserialize RON text; a syntax or type error comes back located in `file`.
+pub fn parse_ron<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, Located> {
+    ron::from_str(text).map_err(|e| Located {
+        file: file.to_string(),
+        at: SourceLocation {
+            line: e.position.line,
+            column: e.position.col,
+        },
+        message: e.code.to_string(),
+    })
+}
+
 /// A message tied to a place in a file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Located {

@@ -1,6 +1,6 @@
 //! Robot model schema: joints as the server names them, limits, gains and geometry.
 
-use crate::location::{Located, SourceLocation};
+use crate::location::{parse_ron, Located, SourceLocation};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::path::Path;
@@ -170,16 +170,7 @@ impl RobotModel {
 
     /// Parse and validate RON text; `file` names the source in error messages.
     pub fn from_ron(file: &str, text: &str) -> Result<Self, ModelError> {
-        let model: RobotModel = ron::from_str(text).map_err(|e| {
-            ModelError::Invalid(vec![Located {
-                file: file.to_string(),
-                at: SourceLocation {
-                    line: e.position.line,
-                    column: e.position.col,
-                },
-                message: e.code.to_string(),
-            }])
-        })?;
+        let model: RobotModel = parse_ron(file, text).map_err(|e| ModelError::Invalid(vec![e]))?;
         let errors = model.problems(file, text);
         if errors.is_empty() {
             Ok(model)
