@@ -135,8 +135,10 @@ impl AgentHost<'_> {
 
     fn situation(&self) -> Situation {
         match self.team_play_mode() {
-            "KickOffTheirs" | "GoalOwn" => Situation::KickOffTheirs,
-            "BeforeKickOff" | "KickOffOwn" | "GoalTheirs" => Situation::KickOffOwn,
+            // Before the first kick-off nobody knows who kicks off: take the positions that are
+            // legal either way (the referee relocates defenders inside the centre circle).
+            "KickOffTheirs" | "GoalOwn" | "BeforeKickOff" => Situation::KickOffTheirs,
+            "KickOffOwn" | "GoalTheirs" => Situation::KickOffOwn,
             m if m.ends_with("Own") => Situation::SetPlayOwn,
             m if m.ends_with("Theirs") => Situation::SetPlayTheirs,
             _ => Situation::play_on(self.ball()),
