@@ -32,7 +32,16 @@ fn torso_heights(team: &libero_agent::Team) -> Vec<(u32, f64)> {
 }
 
 fn assert_all_standing(team: &libero_agent::Team, nominal: f64, when: &str) {
-    for (unum, z) in torso_heights(team) {
+    let heights = torso_heights(team);
+    let worst = heights
+        .iter()
+        .map(|(_, z)| (z - nominal).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "{when}: nominal {nominal:.4} m, worst deviation {:.1} mm",
+        worst * 1000.0
+    );
+    for (unum, z) in heights {
         assert!(
             (z - nominal).abs() <= 0.02,
             "{when}: player {unum} torso at {z:.3} m, nominal {nominal:.3} m"
