@@ -1,8 +1,8 @@
 //! Locomotion on the real rcssservermj (fast `--sync --no-realtime` mode), shortened for CI.
 //!
-//! The full measurements are `libero bench walk`. The bars here are what the current walk
-//! parameters reach in 10 s runs (see the final numbers in the walk's report), not the
-//! issue's aims (0.5 m/s forward, 0.2 m/s sideways, 45°/s turning), which are not met yet.
+//! The full measurements are `libero bench walk`. The bars sit below what the current walk
+//! parameters reach in these runs (forward 0.46–0.47 m/s, sideways 0.18 m/s, turning 51°/s,
+//! measured 5 times in a row), so a regression fails but run-to-run scatter does not.
 
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
@@ -25,7 +25,7 @@ fn walks_forward_for_ten_seconds_without_falling() {
         f.speed, f.seconds, f.fell_at
     );
     assert_eq!(f.fell_at, None);
-    assert!(f.speed >= 0.12, "forward {:.3} m/s", f.speed);
+    assert!(f.speed >= 0.4, "forward {:.3} m/s", f.speed);
 }
 
 #[test]
@@ -34,9 +34,9 @@ fn walks_sideways_and_turns_on_the_spot_without_falling() {
     let s = bench::sideways(&mut trial, &params, 10.0).unwrap();
     eprintln!("sideways {:.3} m/s, fell at {:?}", s.speed, s.fell_at);
     assert_eq!(s.fell_at, None);
-    assert!(s.speed >= 0.05, "sideways {:.3} m/s", s.speed);
+    assert!(s.speed >= 0.15, "sideways {:.3} m/s", s.speed);
     let t = bench::turning(&mut trial, &params, 10.0).unwrap();
     eprintln!("turn {:.1} deg/s, fell at {:?}", t.speed, t.fell_at);
     assert_eq!(t.fell_at, None);
-    assert!(t.speed >= 15.0, "turn {:.1} deg/s", t.speed);
+    assert!(t.speed >= 40.0, "turn {:.1} deg/s", t.speed);
 }
