@@ -4,9 +4,9 @@ use crate::params::WorldParams;
 /// Timed ball observations.
 type Track = Vec<(f64, Vector3<f64>)>;
 
-/// Observations every 0.04 s of a launch from rest at 1.013 s: speed along the path by the
-/// motion model, the path turning as the launch table says (chord directions for 0.6 s, then
-/// on to the tabulated stop). Returns the estimate, the track, the tabulated stop and the
+/// Observations every 0.04 s of a launch from rest at 1.013 s: for 0.6 s the distance from the
+/// launch point and the chord directions the launch table says, then on to the tabulated stop
+/// at the motion model's pace. Returns the estimate, the track, the tabulated stop and the
 /// motion model's straight-line stop.
 fn launch(speed: f64, heading: f64) -> (BallEstimate, Track, Vector2<f64>, Vector2<f64>) {
     let params = WorldParams::builtin().ball;
@@ -19,7 +19,7 @@ fn launch(speed: f64, heading: f64) -> (BallEstimate, Track, Vector2<f64>, Vecto
     let along = |tau: f64| model.advance(speed, roll, tau.max(0.0)).distance;
     let chord_point = |tau: f64| {
         let a = heading + table.chord_turn(speed, heading, tau);
-        start + Vector2::new(a.cos(), a.sin()) * along(tau)
+        start + Vector2::new(a.cos(), a.sin()) * table.distance(speed, heading, tau)
     };
     let stop = start + table.stop_offset(speed, heading);
     let (bend, total) = (chord_point(curve_end), model.stop_distance(speed, roll));
