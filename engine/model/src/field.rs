@@ -3,7 +3,8 @@
 //! All coordinates are in the server's global frame: origin at the centre spot on the ground, +x
 //! towards the right goal, +y left of +x, +z up, metres.
 
-use crate::location::{parse_ron, Located, SourceLocation};
+use crate::data::{self, DataFile};
+use crate::location::{Located, SourceLocation};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::path::Path;
@@ -60,18 +61,8 @@ pub struct FieldGeometry {
     pub lines: Vec<FieldLine>,
 }
 
-#[derive(Debug, thiserror::Error)]
-pub enum FieldError {
-    #[error("cannot read {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("{}", .0.iter().map(|e| e.to_string()).collect::<Vec<_>>().join("\n"))]
-    Invalid(Vec<Located>),
-    #[error("no built-in field named `{0}` (known: {1})")]
-    UnknownBuiltin(String, String),
-}
+/// Why a field could not be used.
+pub type FieldError = crate::data::DataError;
 
 const BUILTIN: &[(&str, &str)] = &[
     ("fifa7vs7", include_str!("../fields/fifa7vs7.ron")),
@@ -81,38 +72,21 @@ const BUILTIN: &[(&str, &str)] = &[
 
 impl FieldGeometry {
     pub fn builtin_names() -> Vec<&'static str> {
-        BUILTIN.iter().map(|(name, _)| *name).collect()
+        data::builtin_names::<Self>()
     }
 
     /// A shipped field by name (case-insensitive): `fifa7vs7`, `fifa`, `simspark`.
     pub fn builtin(name: &str) -> Result<Self, FieldError> {
-        let (file, text) = BUILTIN
-            .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(name))
-            .ok_or_else(|| {
-                FieldError::UnknownBuiltin(name.to_string(), Self::builtin_names().join(", "))
-            })?;
-        Self::from_ron(&format!("<builtin>/{file}.ron"), text)
+        data::builtin(name)
     }
 
     pub fn load(path: &Path) -> Result<Self, FieldError> {
-        let text = std::fs::read_to_string(path).map_err(|source| FieldError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::from_ron(&path.display().to_string(), &text)
+        data::load(path)
     }
 
     /// Parse and validate RON text; `file` names the source in error messages.
     pub fn from_ron(file: &str, text: &str) -> Result<Self, FieldError> {
-        let field: FieldGeometry =
-            parse_ron(file, text).map_err(|e| FieldError::Invalid(vec![e]))?;
-        let errors = field.problems(file, text);
-        if errors.is_empty() {
-            Ok(field)
-        } else {
-            Err(FieldError::Invalid(errors))
-        }
+        data::from_ron(file, text)
     }
 
     /// True position of the landmark the server calls `name`.
@@ -211,6 +185,15 @@ impl FieldGeometry {
             }
         }
         errors
+    }
+}
+
+impl DataFile for FieldGeometry {
+    const KIND: &'static str = "field";
+    const BUILTIN: &'static [(&'static str, &'static str)] = BUILTIN;
+
+    fn problems(&self, file: &str, text: &str) -> Vec<Located> {
+        FieldGeometry::problems(self, file, text)
     }
 }
 

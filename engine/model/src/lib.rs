@@ -4,6 +4,7 @@
 //! kinematic geometry) comes from here, so that the rest of the engine never spells an
 //! actuator name of its own.
 
+pub mod data;
 pub mod field;
 pub mod kinematics;
 pub mod location;

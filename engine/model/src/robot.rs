@@ -1,6 +1,7 @@
 //! Robot model schema: joints as the server names them, limits, gains and geometry.
 
-use crate::location::{parse_ron, Located, SourceLocation};
+use crate::data::{self, DataFile};
+use crate::location::{Located, SourceLocation};
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 use std::path::Path;
@@ -110,26 +111,7 @@ pub struct RobotModel {
 }
 
 /// Why a robot model could not be used.
-#[derive(Debug, thiserror::Error)]
-pub enum ModelError {
-    #[error("cannot read {path}: {source}")]
-    Io {
-        path: String,
-        source: std::io::Error,
-    },
-    #[error("{}", format_all(.0))]
-    Invalid(Vec<Located>),
-    #[error("no built-in robot model named `{0}` (known: {1})")]
-    UnknownBuiltin(String, String),
-}
-
-fn format_all(errors: &[Located]) -> String {
-    errors
-        .iter()
-        .map(|e| e.to_string())
-        .collect::<Vec<_>>()
-        .join("\n")
-}
+pub type ModelError = crate::data::DataError;
 
 /// The robot models shipped with Libero, by file name.
 const BUILTIN: &[(&str, &str)] = &[
@@ -143,40 +125,24 @@ const BUILTIN: &[(&str, &str)] = &[
 ];
 
 impl RobotModel {
-    /// Names of the robot models shipped with the engine.
+    /// Names of the shipped robot models.
     pub fn builtin_names() -> Vec<&'static str> {
-        BUILTIN.iter().map(|(name, _)| *name).collect()
+        data::builtin_names::<Self>()
     }
 
     /// A shipped robot model by name (case-insensitive), parsed and validated.
     pub fn builtin(name: &str) -> Result<Self, ModelError> {
-        let (file, text) = BUILTIN
-            .iter()
-            .find(|(n, _)| n.eq_ignore_ascii_case(name))
-            .ok_or_else(|| {
-                ModelError::UnknownBuiltin(name.to_string(), Self::builtin_names().join(", "))
-            })?;
-        Self::from_ron(&format!("<builtin>/{file}.ron"), text)
+        data::builtin(name)
     }
 
     /// Load and validate a robot model file.
     pub fn load(path: &Path) -> Result<Self, ModelError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ModelError::Io {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::from_ron(&path.display().to_string(), &text)
+        data::load(path)
     }
 
     /// Parse and validate RON text; `file` names the source in error messages.
     pub fn from_ron(file: &str, text: &str) -> Result<Self, ModelError> {
-        let model: RobotModel = parse_ron(file, text).map_err(|e| ModelError::Invalid(vec![e]))?;
-        let errors = model.problems(file, text);
-        if errors.is_empty() {
-            Ok(model)
-        } else {
-            Err(ModelError::Invalid(errors))
-        }
+        data::from_ron(file, text)
     }
 
     /// Every semantic problem of the model, located in `text` where possible.
@@ -357,6 +323,15 @@ impl RobotModel {
 /// True when `name` can be sent to a server as one atom without any escaping.
 fn is_wire_atom(name: &str) -> bool {
     !name.is_empty() && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+}
+
+impl DataFile for RobotModel {
+    const KIND: &'static str = "robot model";
+    const BUILTIN: &'static [(&'static str, &'static str)] = BUILTIN;
+
+    fn problems(&self, file: &str, text: &str) -> Vec<Located> {
+        RobotModel::problems(self, file, text)
+    }
 }
 
 #[cfg(test)]
