@@ -163,6 +163,28 @@ fn move_agent(monitor: &mut Monitor, x: f64, y: f64, yaw_deg: f64) {
         .unwrap();
 }
 
+/// Move the agent and step until the server's ground truth has it there, sending the move again
+/// if it was ignored: right after the agent connects, rcsssmj can drop a monitor move (the robot
+/// then stays at its spawn point outside the field).
+fn place_agent(agent: &mut Agent, monitor: &mut Monitor, x: f64, y: f64, yaw_deg: f64) {
+    for attempt in 0..200 {
+        if attempt % 20 == 0 {
+            if attempt > 0 {
+                eprintln!("the move to ({x:.2}, {y:.2}) was ignored: sending it again");
+            }
+            move_agent(monitor, x, y, yaw_deg);
+        }
+        let cycle = agent.step(0.0, 20.0);
+        let placed = cycle
+            .true_torso
+            .is_some_and(|p| (p.translation.vector.xy() - Vector2::new(x, y)).norm() < 0.1);
+        if placed {
+            return;
+        }
+    }
+    panic!("the agent could not be moved to ({x}, {y})");
+}
+
 fn percentile(sorted: &[f64], q: f64) -> f64 {
     let i = ((sorted.len() - 1) as f64 * q).round() as usize;
     sorted[i]
@@ -246,7 +268,7 @@ fn ball_stop_point_predicted_from_the_first_third_of_a_second() {
         let dir = Vector2::new(heading.cos(), heading.sin());
         let start = -8.0 * dir;
         let robot = start - 2.0 * dir;
-        move_agent(monitor, robot.x, robot.y, heading.to_degrees());
+        place_agent(&mut agent, monitor, robot.x, robot.y, heading.to_degrees());
         monitor
             .send(&format!(
                 "(ball (pos {} {} 0.11)(vel 0 0 0))",

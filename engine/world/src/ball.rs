@@ -387,12 +387,25 @@ impl Tracker {
                 self.launch_speed = Some(self.fit_velocity.norm());
             }
         }
+        // At rest when the fit says so, or when the window's points do not move even though a
+        // jump started a launch fit: the jump was our own relocalization (moving the ball as
+        // seen from our pose estimate), and a real launch must find the ball at rest again.
+        let settled = points.len() >= LAUNCH_WINDOW_MIN_POINTS
+            && (self.fit_velocity.norm() == 0.0 || velocity.norm() < self.params.rest_speed);
+        if settled {
+            if self.launched.is_some() {
+                self.launch = None;
+                self.launched = None;
+                self.launch_speed = None;
+            }
+            self.fit_velocity = Vector2::zeros();
+            // Where it lies: the mean of the window, following the slow drift of our own pose
+            // estimate (a stale rest point would make noise look like a start).
+            let mean = points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len() as f64;
+            self.rest_position = Some(mean);
+        }
         let speed = self.fit_velocity.norm();
         let position = self.fit_position;
-        let settled = points.len() >= LAUNCH_WINDOW_MIN_POINTS && speed == 0.0;
-        if settled && self.rest_position.is_none() {
-            self.rest_position = Some(position);
-        }
         // Rolling once the speed is down to the rolling speed, or when a track that did not
         // start with a visible launch decelerates like a rolling ball.
         if self.rolling_start.is_none() && speed > 0.0 && points.len() >= 4 {
