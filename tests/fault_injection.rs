@@ -39,7 +39,7 @@ struct AgentUnderTest {
 impl AgentUnderTest {
     fn start(port: u16, silence: Duration) -> Self {
         init_logging();
-        let mut player = build::standing_player(&t1(), "Faulty", 1).unwrap();
+        let mut player = build::standing_player(&t1(), "Probe", 1).unwrap();
         let stats = Arc::clone(player.stats());
         let stop = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&stop);
@@ -71,7 +71,7 @@ fn listener() -> (TcpListener, u16) {
 fn accept_agent(l: &TcpListener) -> TcpStream {
     let (mut s, _) = l.accept().unwrap();
     let init = read_reply(&mut s).expect("init");
-    assert_eq!(init, "(init T1 Faulty 1)");
+    assert_eq!(init, "(init T1 Probe 1)");
     s
 }
 
@@ -176,7 +176,7 @@ fn a_silent_server_is_given_up_on_and_reconnected_to() {
 fn an_unreachable_server_is_a_clear_error_when_attempts_are_bounded() {
     let (l, port) = listener();
     drop(l);
-    let mut player = build::standing_player(&t1(), "Faulty", 1).unwrap();
+    let mut player = build::standing_player(&t1(), "Probe", 1).unwrap();
     let mut config = AgentConfig::new("127.0.0.1", port);
     config.max_connect_failures = Some(3);
     let err = run_agent(&config, &mut player, &AtomicBool::new(false))
