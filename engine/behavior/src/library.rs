@@ -30,16 +30,8 @@ impl Library {
     /// Loads and validates `.ron` files under `paths` (directories are searched recursively).
     /// Fails with every error found; warnings of a successful load are in [`Library::warnings`].
     pub fn load(paths: &[PathBuf], vocabulary: &Vocabulary) -> Result<Library, Report> {
-        let (sources, mut report) = read_sources(paths);
-        let library = build(&sources, vocabulary, &mut report);
-        report.sort();
-        match library {
-            Some(mut library) if !report.has_errors() => {
-                library.warnings = report;
-                Ok(library)
-            }
-            _ => Err(report),
-        }
+        let (sources, report) = read_sources(paths);
+        finish(&sources, vocabulary, report)
     }
 
     /// Builds a library from in-memory files `(path, text)`, as if read from disk.
@@ -48,16 +40,7 @@ impl Library {
             .iter()
             .map(|(path, text)| Arc::new(SourceFile::new(PathBuf::from(path), text.to_string())))
             .collect();
-        let mut report = Report::default();
-        let library = build(&sources, vocabulary, &mut report);
-        report.sort();
-        match library {
-            Some(mut library) if !report.has_errors() => {
-                library.warnings = report;
-                Ok(library)
-            }
-            _ => Err(report),
-        }
+        finish(&sources, vocabulary, Report::default())
     }
 
     /// A number that increases with each reload published by a [`crate::LiveLibrary`].
@@ -416,4 +399,22 @@ fn reachable_trees<'a>(
         }
     }
     seen
+}
+
+/// Build from read sources; every error in `report` (reading or building) fails the load, and a
+/// successful library keeps the warnings.
+fn finish(
+    sources: &[Arc<SourceFile>],
+    vocabulary: &Vocabulary,
+    mut report: Report,
+) -> Result<Library, Report> {
+    let library = build(sources, vocabulary, &mut report);
+    report.sort();
+    match library {
+        Some(mut library) if !report.has_errors() => {
+            library.warnings = report;
+            Ok(library)
+        }
+        _ => Err(report),
+    }
 }

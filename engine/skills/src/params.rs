@@ -28,13 +28,8 @@ pub struct SkillParams {
 
 #[derive(Debug, thiserror::Error)]
 pub enum ParamsError {
-    #[error("{file}:{line}:{column}: {message}")]
-    Syntax {
-        file: String,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    #[error("{0}")]
+    Syntax(libero_model::Located),
     #[error("{file}: {message}")]
     Invalid { file: String, message: String },
     #[error("no built-in skill parameters for robot `{0}`")]
@@ -71,12 +66,8 @@ impl SkillParams {
     }
 
     pub fn from_ron(file: &str, text: &str, model: &RobotModel) -> Result<Self, ParamsError> {
-        let params: SkillParams = ron::from_str(text).map_err(|e| ParamsError::Syntax {
-            file: file.into(),
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
-        })?;
+        let params: SkillParams =
+            libero_model::location::parse_ron(file, text).map_err(ParamsError::Syntax)?;
         params.validate(model).map_err(|e| match e {
             ParamsError::Invalid { message, .. } => ParamsError::Invalid {
                 file: file.into(),
@@ -110,6 +101,17 @@ impl SkillParams {
             message,
         };
         self.walk.validate().map_err(invalid)?;
+        for joint in self.walk.leg_gains.keys() {
+            let on_both_legs = ["left", "right"]
+                .iter()
+                .all(|side| model.joint_id(&format!("{side}_{joint}")).is_some());
+            if !on_both_legs {
+                return Err(invalid(format!(
+                    "walk.leg_gains: `{joint}` is not a leg joint of {} (`left_{joint}` and `right_{joint}` must exist)",
+                    model.name
+                )));
+            }
+        }
         self.get_up.validate(model).map_err(invalid)?;
         Ok(())
     }
@@ -153,6 +155,21 @@ mod tests {
         let p = SkillParams::builtin(&t1).unwrap();
         let pose = p.stand_pose(&t1).unwrap();
         assert_eq!(pose[t1.joint_id("left_knee").unwrap()], 24.0);
+    }
+
+    #[test]
+    fn walk_gains_must_name_joints_on_both_legs_of_the_model() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let shipped = include_str!("../params/t1.ron");
+        let text = shipped.replacen("\"hip_yaw\": Gains", "\"hip_yaw_pitch\": Gains", 1);
+        assert_ne!(text, shipped);
+        let e = SkillParams::from_ron("t1.ron", &text, &t1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("`hip_yaw_pitch` is not a leg joint of T1"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -69,13 +69,8 @@ pub struct WorldParams {
 pub enum ParamsError {
     #[error("cannot read {0}: {1}")]
     Io(String, std::io::Error),
-    #[error("{file}:{line}:{column}: {message}")]
-    Syntax {
-        file: String,
-        line: usize,
-        column: usize,
-        message: String,
-    },
+    #[error("{0}")]
+    Syntax(libero_model::Located),
     #[error("{file}: invalid world parameters:\n  {}", .problems.join("\n  "))]
     Invalid { file: String, problems: Vec<String> },
 }
@@ -95,12 +90,8 @@ impl WorldParams {
     }
 
     pub fn from_ron(file: &str, text: &str) -> Result<Self, ParamsError> {
-        let params: WorldParams = ron::from_str(text).map_err(|e| ParamsError::Syntax {
-            file: file.to_string(),
-            line: e.position.line,
-            column: e.position.col,
-            message: e.code.to_string(),
-        })?;
+        let params: WorldParams =
+            libero_model::location::parse_ron(file, text).map_err(ParamsError::Syntax)?;
         let problems = params.problems();
         if problems.is_empty() {
             Ok(params)
@@ -219,6 +210,6 @@ mod tests {
         assert!(err.contains("friction_by_direction"), "{err}");
         assert!(err.contains("launch_table.chord_times"), "{err}");
         let err = WorldParams::from_ron("w.ron", "WorldParams(").unwrap_err();
-        assert!(matches!(err, ParamsError::Syntax { .. }), "{err}");
+        assert!(matches!(err, ParamsError::Syntax(_)), "{err}");
     }
 }

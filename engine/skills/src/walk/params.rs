@@ -4,16 +4,6 @@ use libero_model::Gains;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
-/// The leg joints, by the name they have on both sides (`left_<name>`, `right_<name>`).
-pub const LEG_JOINTS: [&str; 6] = [
-    "hip_pitch",
-    "hip_roll",
-    "hip_yaw",
-    "knee",
-    "ankle_pitch",
-    "ankle_roll",
-];
-
 /// Gait geometry, timing, command limits and the balance loop of the omnidirectional walk.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct WalkParams {
@@ -191,13 +181,8 @@ impl WalkParams {
             -500.0,
             500.0,
         )?;
+        // Joint names are checked against the robot model in `SkillParams::validate`.
         for (joint, g) in &self.leg_gains {
-            if !LEG_JOINTS.contains(&joint.as_str()) {
-                return Err(format!(
-                    "{w}.leg_gains: `{joint}` is not a leg joint (one of {})",
-                    LEG_JOINTS.join(", ")
-                ));
-            }
             in_range(&format!("{w}.leg_gains.{joint}.kp"), g.kp, 0.0, MAX_KP)?;
             in_range(&format!("{w}.leg_gains.{joint}.kd"), g.kd, 0.0, MAX_KD)?;
         }
