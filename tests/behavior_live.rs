@@ -1,10 +1,10 @@
 //! Hot reload during a match, live: a real server, a player running its tree from files on
 //! disk, and edits to those files while it plays.
 
-use libero_agent::{build, AgentConfig, AgentStats, LibrarySource, Team};
+use libero_agent::{build, AgentConfig, AgentStats, LibrarySource, ParamsEvent, SkillSource, Team};
 use libero_behavior::ReloadEvent;
 use libero_server::{ServerOptions, ServerProcess};
-use libero_tests::{init_logging, t1, wait_until};
+use libero_tests::{fast_server, init_logging, t1, wait_sim_seconds, wait_until};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -57,7 +57,7 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
     let common = dirs[0].join("common.ron");
     let original = std::fs::read_to_string(&common).unwrap();
     let source = build::load_library(&dirs, true).expect("shipped files load");
-    let mut player = build::tree_player(&t1(), "Home", 2, &source).unwrap();
+    let mut player = build::tree_player(&t1(), "Home", 2, &source, &SkillSource::Builtin).unwrap();
     player.share_trace = true;
     let stats = Arc::clone(player.stats());
     let stop = Arc::new(AtomicBool::new(false));
@@ -180,6 +180,112 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
     );
     assert_eq!(AgentStats::get(&stats.connections), 1);
     assert_eq!(AgentStats::get(&stats.unreadable), 0);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    team.join();
+}
+
+/// The stand posture's torso height [m] in ground truth, averaged over half a second.
+fn settled_torso_z(stats: &AgentStats) -> f64 {
+    let mut sum = 0.0;
+    for _ in 0..25 {
+        wait_sim_seconds(stats, 0.02);
+        sum += stats.truth_position().expect("ground truth")[2];
+    }
+    sum / 25.0
+}
+
+#[test]
+fn skill_parameter_edits_change_the_running_robot_and_broken_ones_are_refused() {
+    let server = fast_server();
+    let model = t1();
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("t1.ron");
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../engine/skills/params/t1.ron");
+    let original = std::fs::read_to_string(shipped).unwrap();
+    std::fs::write(&file, &original).unwrap();
+    let skills = SkillSource::from_file(&file, &model, true).expect("shipped parameters load");
+    let SkillSource::Live(live) = &skills else {
+        panic!("a watched file gives live parameters")
+    };
+    let source = build::load_library(&build::default_data_dirs(), false).unwrap();
+    let player = build::tree_player(&model, "Home", 2, &source, &skills).unwrap();
+    let stats = Arc::clone(player.stats());
+    let stop = Arc::new(AtomicBool::new(false));
+    let team = Team::start(
+        &AgentConfig::new("127.0.0.1", server.agent_port),
+        vec![player],
+        Arc::clone(&stop),
+    );
+    wait_until(Duration::from_secs(30), || stats.truth_position().is_some())
+        .expect("the player joined");
+    wait_sim_seconds(&stats, 2.0);
+    let upright_z = settled_torso_z(&stats);
+
+    // 1. A deeper crouch in the stand pose: the torso sinks.
+    let stand = r#""left_hip_pitch": -12.0, "left_knee": 24.0, "left_ankle_pitch": -12.0,
+        "right_hip_pitch": -12.0, "right_knee": 24.0, "right_ankle_pitch": -12.0,"#;
+    assert!(
+        original.contains(stand),
+        "t1.ron's stand layout changed; update this test"
+    );
+    let crouch = original.replace(
+        stand,
+        r#""left_hip_pitch": -30.0, "left_knee": 60.0, "left_ankle_pitch": -30.0,
+        "right_hip_pitch": -30.0, "right_knee": 60.0, "right_ankle_pitch": -30.0,"#,
+    );
+    save(&file, &crouch);
+    assert_eq!(
+        live.next_event(Duration::from_secs(5)),
+        Some(ParamsEvent::Reloaded {
+            generation: 2,
+            recovered: false
+        })
+    );
+    wait_sim_seconds(&stats, 1.5);
+    let crouched_z = settled_torso_z(&stats);
+    eprintln!("torso z: stand {upright_z:.3} m, edited crouch {crouched_z:.3} m");
+    assert!(
+        crouched_z < upright_z - 0.04,
+        "the edited stand pose did not reach the robot: {upright_z:.3} → {crouched_z:.3} m"
+    );
+
+    // 2. A broken edit (a knee beyond its limit): refused with the field named, the robot keeps
+    //    the crouch and keeps playing.
+    let percepts = AgentStats::get(&stats.percepts);
+    save(
+        &file,
+        &crouch.replace(r#""left_knee": 60.0"#, r#""left_knee": 600.0"#),
+    );
+    match live.next_event(Duration::from_secs(5)) {
+        Some(ParamsEvent::Rejected { message }) => {
+            assert!(message.contains("left_knee"), "{message}")
+        }
+        other => panic!("the broken edit was not refused: {other:?}"),
+    }
+    wait_sim_seconds(&stats, 1.0);
+    let kept_z = settled_torso_z(&stats);
+    assert!(
+        (kept_z - crouched_z).abs() < 0.01,
+        "a refused edit changed the robot: {crouched_z:.3} → {kept_z:.3} m"
+    );
+    assert!(AgentStats::get(&stats.percepts) > percepts + 50);
+
+    // 3. The fix: back to the original stand, reported as a recovery.
+    save(&file, &original);
+    assert_eq!(
+        live.next_event(Duration::from_secs(5)),
+        Some(ParamsEvent::Reloaded {
+            generation: 3,
+            recovered: true
+        })
+    );
+    wait_sim_seconds(&stats, 1.5);
+    let back_z = settled_torso_z(&stats);
+    assert!(
+        (back_z - upright_z).abs() < 0.01,
+        "the fixed file did not restore the stand: {upright_z:.3} vs {back_z:.3} m"
+    );
+    assert_eq!(AgentStats::get(&stats.connections), 1);
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     team.join();
 }

@@ -3,6 +3,7 @@
 use crate::decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
 use crate::natives::{vocabulary, Natives};
 use crate::player::Player;
+use crate::skill_source::SkillSource;
 use crate::stats::AgentStats;
 use libero_behavior::{Library, LiveLibrary, ReloadOptions};
 use libero_model::RobotModel;
@@ -44,33 +45,48 @@ pub fn standing_player(
     let decider = Box::new(StandAndBeam {
         beam_pose: fallback_kickoff_pose(unum),
     });
-    player_with(model, team, unum, decider)
+    player_with(model, team, unum, decider, &SkillSource::Builtin)
 }
 
-/// A player with the model's built-in skill parameters and `decider`.
+/// A player with skill parameters from `skills` and `decider`.
 fn player_with(
     model: &Arc<RobotModel>,
     team: &str,
     unum: u32,
     decider: Box<dyn Decider>,
+    skills: &SkillSource,
 ) -> Result<Player, BuildError> {
-    let skills = Skills::new(model, SkillParams::builtin(model)?)?;
-    Ok(Player::new(
+    let engine = Skills::new(model, skills.initial(model)?)?;
+    let mut player = Player::new(
         Arc::clone(model),
-        skills,
+        engine,
         decider,
         team,
         unum,
         Arc::new(AgentStats::default()),
-    ))
+    );
+    player.follow_skill_params(skills.clone());
+    Ok(player)
+}
+
+/// The repository's skill parameter file for a robot (`engine/skills/params/t1.ron` for the
+/// T1, `nao.ron` for every NAO type): under `LIBERO_HOME` if set, else under this checkout.
+pub fn default_skill_params_file(model: &RobotModel) -> PathBuf {
+    repository_root()
+        .join("engine/skills/params")
+        .join(SkillParams::file_name(model))
+}
+
+fn repository_root() -> PathBuf {
+    std::env::var_os("LIBERO_HOME")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
 }
 
 /// The repository's data folders (`behaviors/`, `formations/`): under `LIBERO_HOME` if set,
 /// else under the checkout this crate was built from.
 pub fn default_data_dirs() -> Vec<PathBuf> {
-    let root = std::env::var_os("LIBERO_HOME")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."));
+    let root = repository_root();
     vec![root.join("behaviors"), root.join("formations")]
 }
 
@@ -93,14 +109,16 @@ pub fn load_library(dirs: &[PathBuf], watch: bool) -> Result<LibrarySource, Buil
     }
 }
 
-/// A player whose decisions come from its behavior tree in `source`.
+/// A player whose decisions come from its behavior tree in `source` and whose skill
+/// parameters come from `skills`.
 pub fn tree_player(
     model: &Arc<RobotModel>,
     team: &str,
     unum: u32,
     source: &LibrarySource,
+    skills: &SkillSource,
 ) -> Result<Player, BuildError> {
     let natives = Natives::new(&vocabulary());
     let decider = Box::new(TreeDecider::new(source.clone(), natives, unum));
-    player_with(model, team, unum, decider)
+    player_with(model, team, unum, decider, skills)
 }

@@ -14,11 +14,13 @@ pub mod decide;
 pub mod natives;
 pub mod player;
 pub mod run;
+pub mod skill_source;
 pub mod stats;
 pub mod team;
 
 pub use decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
 pub use player::Player;
 pub use run::{run_agent, AgentConfig};
+pub use skill_source::{LiveSkillParams, ParamsEvent, SkillSource};
 pub use stats::AgentStats;
 pub use team::{simspark_team_types, Team};

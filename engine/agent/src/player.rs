@@ -2,6 +2,7 @@
 
 use crate::actuate::write_actions;
 use crate::decide::Decider;
+use crate::skill_source::SkillSource;
 use crate::stats::AgentStats;
 use libero_model::RobotModel;
 use libero_protocol::{parse_percept, ActionWriter};
@@ -30,6 +31,9 @@ pub struct Player {
     /// Publish each cycle's decision trace in the stats (for tests and live inspection).
     pub share_trace: bool,
     eval_log: Option<EvalLog>,
+    /// Where new skill parameters come from while playing, and the version in use.
+    skill_source: SkillSource,
+    skill_generation: u64,
 }
 
 /// Where the evaluation log goes and whether it carries decision traces.
@@ -62,6 +66,39 @@ impl Player {
             beamed_in: None,
             share_trace: false,
             eval_log: None,
+            skill_source: SkillSource::Builtin,
+            skill_generation: 0,
+        }
+    }
+
+    /// Take new skill parameters from `source` whenever it has a new version (checked once per
+    /// cycle, before the skills run).
+    pub fn follow_skill_params(&mut self, source: SkillSource) {
+        self.skill_generation = source.generation();
+        self.skill_source = source;
+    }
+
+    fn pick_up_skill_params(&mut self) {
+        let generation = self.skill_source.generation();
+        if generation == self.skill_generation {
+            return;
+        }
+        self.skill_generation = generation;
+        let Some(params) = self.skill_source.current() else {
+            return;
+        };
+        match self.skills.set_params(&self.model, (*params).clone()) {
+            Ok(()) => log::debug!(
+                "agent {}: skill parameters version {generation} in use",
+                self.world.game.unum
+            ),
+            // Validated against the file's model already; a different robot type of the same
+            // family may still refuse them, and then keeps its running parameters.
+            Err(e) => log::error!(
+                "agent {} ({}): new skill parameters refused, keeping the running ones: {e}",
+                self.world.game.unum,
+                self.model.name
+            ),
         }
     }
 
@@ -154,6 +191,7 @@ impl Player {
                 self.eval_log = None;
             }
         }
+        self.pick_up_skill_params();
         self.skills
             .act(&self.model, &self.world, &self.intent, &mut self.targets);
         let mode = self.world.game.play_mode;
@@ -301,7 +339,8 @@ mod tests {
     fn simspark_handshake_init_then_velocities_and_syn_every_cycle() {
         let model = Arc::new(RobotModel::builtin("NAO_type2").unwrap());
         let source = crate::build::load_library(&crate::build::default_data_dirs(), false).unwrap();
-        let mut player = crate::build::tree_player(&model, "Libero", 4, &source).unwrap();
+        let mut player =
+            crate::build::tree_player(&model, "Libero", 4, &source, &SkillSource::Builtin).unwrap();
         let hello = player.greeting().unwrap();
         assert_eq!(&hello[4..], b"(scene rsg/agent/nao/nao_hetero.rsg 2)");
         let path = format!(

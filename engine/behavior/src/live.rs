@@ -1,4 +1,4 @@
-//! Hot reload: a watcher thread debounces file events on the library's directories, rebuilds the
+//! Hot reload: a `libero_watch` thread debounces file events on the library's directories, rebuilds the
 //! whole library off the agent threads and publishes it with one atomic swap. Broken edits
 //! keep the last good version and are reported once.
 
@@ -6,25 +6,23 @@ use crate::diagnostics::Report;
 use crate::library::{build, fingerprint, read_sources, Library};
 use crate::vocabulary::Vocabulary;
 use arc_swap::ArcSwap;
-use notify::{EventKind, RecursiveMode, Watcher};
+use libero_watch::FileWatch;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::mpsc::{self, Receiver};
 use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 #[derive(Debug, Clone)]
 pub struct ReloadOptions {
-    /// Quiet time after the last file event before reloading: editors save in several steps
-    /// (truncate then write, write a temporary then rename) and only the end state matters.
+    /// Quiet time after the last file event before reloading (see `libero_watch`).
     pub debounce: Duration,
 }
 
 impl Default for ReloadOptions {
     fn default() -> Self {
         Self {
-            debounce: Duration::from_millis(150),
+            debounce: libero_watch::DEFAULT_DEBOUNCE,
         }
     }
 }
@@ -51,8 +49,8 @@ struct Shared {
 pub struct LiveLibrary {
     shared: Arc<Shared>,
     events: Mutex<Receiver<ReloadEvent>>,
-    watcher: Option<notify::RecommendedWatcher>,
-    thread: Option<JoinHandle<()>>,
+    /// Stops the reload thread when the library is dropped.
+    _watch: FileWatch,
 }
 
 impl LiveLibrary {
@@ -79,44 +77,30 @@ impl LiveLibrary {
             current: ArcSwap::from_pointee(library),
             generation: AtomicU64::new(1),
         });
-        let (file_events_tx, file_events) = mpsc::channel();
-        let mut watcher = notify::recommended_watcher(move |event| {
-            let _ = file_events_tx.send(event);
-        })
-        .map_err(|e| watch_error(&e))?;
-        for path in &paths {
-            let mode = if path.is_dir() {
-                RecursiveMode::Recursive
-            } else {
-                RecursiveMode::NonRecursive
-            };
-            watcher.watch(path, mode).map_err(|e| watch_error(&e))?;
-        }
         let (events_tx, events) = mpsc::channel();
         let mut reloader = Reloader {
-            paths,
+            paths: paths.clone(),
             vocabulary,
             shared: shared.clone(),
             events: events_tx,
             last_fingerprint: initial_fingerprint,
             broken: false,
         };
-        let thread = std::thread::Builder::new()
-            .name("behavior-reload".into())
-            .spawn(move || reloader.run(file_events, options.debounce))
-            .map_err(|e| {
-                let mut report = Report::default();
-                report.push(crate::Diagnostic::error(
-                    "io",
-                    format!("cannot start the reload thread: {e}"),
-                ));
-                report
-            })?;
+        let watch = FileWatch::start("behavior-reload", &paths, options.debounce, move || {
+            reloader.reload()
+        })
+        .map_err(|e| {
+            let mut report = Report::default();
+            report.push(crate::Diagnostic::error(
+                "io",
+                format!("cannot watch the behavior files: {e}"),
+            ));
+            report
+        })?;
         Ok(LiveLibrary {
             shared,
             events: Mutex::new(events),
-            watcher: Some(watcher),
-            thread: Some(thread),
+            _watch: watch,
         })
     }
 
@@ -149,25 +133,6 @@ impl LiveLibrary {
     }
 }
 
-impl Drop for LiveLibrary {
-    fn drop(&mut self) {
-        // Dropping the watcher closes its channel, which ends the reload thread.
-        self.watcher.take();
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
-        }
-    }
-}
-
-fn watch_error(error: &notify::Error) -> Report {
-    let mut report = Report::default();
-    report.push(crate::Diagnostic::error(
-        "io",
-        format!("cannot watch the behavior directories: {error}"),
-    ));
-    report
-}
-
 struct Reloader {
     paths: Vec<PathBuf>,
     vocabulary: Arc<Vocabulary>,
@@ -177,48 +142,7 @@ struct Reloader {
     broken: bool,
 }
 
-/// Reads (our own reload) and metadata changes say nothing about content.
-fn is_relevant(event: &notify::Result<notify::Event>) -> bool {
-    match event {
-        Ok(event) => match event.kind {
-            EventKind::Access(notify::event::AccessKind::Close(
-                notify::event::AccessMode::Write,
-            )) => true,
-            EventKind::Access(_) | EventKind::Modify(notify::event::ModifyKind::Metadata(_)) => {
-                false
-            }
-            _ => true,
-        },
-        // Errors (e.g. a queue overflow) may hide changes: reload to be sure.
-        Err(_) => true,
-    }
-}
-
 impl Reloader {
-    fn run(&mut self, file_events: Receiver<notify::Result<notify::Event>>, debounce: Duration) {
-        loop {
-            match file_events.recv() {
-                Ok(event) if is_relevant(&event) => {}
-                Ok(_) => continue,
-                Err(_) => return,
-            }
-            let mut deadline = Instant::now() + debounce;
-            loop {
-                let remaining = deadline.saturating_duration_since(Instant::now());
-                if remaining.is_zero() {
-                    break;
-                }
-                match file_events.recv_timeout(remaining) {
-                    Ok(event) if is_relevant(&event) => deadline = Instant::now() + debounce,
-                    Ok(_) => {}
-                    Err(RecvTimeoutError::Timeout) => break,
-                    Err(RecvTimeoutError::Disconnected) => return,
-                }
-            }
-            self.reload();
-        }
-    }
-
     fn reload(&mut self) {
         let (sources, mut report) = read_sources(&self.paths);
         let fingerprint = fingerprint(&sources);

@@ -44,6 +44,8 @@ pub struct Skills {
     blend: Option<Blend>,
     /// The pose sent last cycle [deg per joint].
     last_pose: Vec<f64>,
+    /// New parameters changed the stand pose: blend into it from the next cycle on.
+    stand_changed: bool,
     pose: Vec<f64>,
 }
 
@@ -60,6 +62,7 @@ impl Skills {
             stand,
             active: ActiveSkill::Stand,
             blend: None,
+            stand_changed: false,
         })
     }
 
@@ -67,7 +70,8 @@ impl Skills {
         &self.params
     }
 
-    /// Swap in new parameters (hot reload, optimizer trials). The stand pose follows at once;
+    /// Swap in new parameters (hot reload, optimizer trials). A changed stand pose is blended
+    /// into over the walk's `settle_s` (a jump in every leg joint at once throws the robot);
     /// the walk picks the new numbers up from its next cycle.
     pub fn set_params(
         &mut self,
@@ -75,7 +79,9 @@ impl Skills {
         params: SkillParams,
     ) -> Result<(), ParamsError> {
         params.validate(model)?;
-        self.stand = params.stand_pose(model)?;
+        let stand = params.stand_pose(model)?;
+        self.stand_changed |= stand != self.stand;
+        self.stand = stand;
         self.params = params;
         Ok(())
     }
@@ -141,6 +147,13 @@ impl Skills {
             ActiveSkill::Stand
         };
         self.switch_to(active, world.time);
+        if std::mem::take(&mut self.stand_changed) && self.blend.is_none() {
+            self.blend = Some(Blend {
+                from: self.last_pose.clone(),
+                start_s: world.time,
+                duration_s: self.params.walk.settle_s,
+            });
+        }
         if active != ActiveSkill::GetUp {
             // The get-up motion starts from the measured angles and must not be softened.
             self.apply_blend(world.time);

@@ -65,6 +65,11 @@ impl SkillParams {
         )
     }
 
+    /// The shipped file name for a robot model: `t1.ron`, `nao.ron` for every NAO type.
+    pub fn file_name(model: &RobotModel) -> String {
+        format!("{}.ron", family(&model.name).to_lowercase())
+    }
+
     pub fn from_ron(file: &str, text: &str, model: &RobotModel) -> Result<Self, ParamsError> {
         let params: SkillParams =
             libero_model::location::parse_ron(file, text).map_err(ParamsError::Syntax)?;

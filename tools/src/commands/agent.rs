@@ -32,7 +32,8 @@ pub struct AgentArgs {
 pub fn run(args: AgentArgs) -> CliResult {
     let model = load_robot(&args.robot, args.robot_file.as_ref())?;
     let source = args.data.source()?;
-    let mut player = build_player(&model, &args.team, args.unum, &source)?;
+    let skills = args.data.skills(&model)?;
+    let mut player = build_player(&model, &args.team, args.unum, &source, &skills)?;
     args.log.attach(&mut player, &args.team, args.unum, false)?;
     let shutdown = ctrl_c_flag();
     run_agent(

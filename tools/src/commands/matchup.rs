@@ -55,13 +55,14 @@ pub fn run(args: MatchArgs) -> CliResult {
         ..ServerOptions::default()
     })?;
     let model = load_robot("T1", None)?;
+    let skills = args.data.skills(&model)?;
     let config = AgentConfig::new("127.0.0.1", server.agent_port);
     let monitor = server.monitor();
     let mut teams = Vec::new();
     for name in [&args.left, &args.right] {
         let mut players = Vec::new();
         for unum in 1..=args.players {
-            let mut player = build_player(&model, name, unum, &source)?;
+            let mut player = build_player(&model, name, unum, &source, &skills)?;
             args.log.attach(&mut player, name, unum, true)?;
             players.push(player);
         }

@@ -1,6 +1,6 @@
 //! Building players from the command line's choices.
 
-use libero_agent::{LibrarySource, Player};
+use libero_agent::{LibrarySource, Player, SkillSource};
 use libero_model::RobotModel;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
@@ -38,6 +38,10 @@ pub struct DataArgs {
     /// Folder of formation and strategy files [default: the repository's formations/]
     #[arg(long, value_name = "DIR")]
     pub formations: Option<PathBuf>,
+    /// Skill parameter file (walk, get-up, kick numbers) [default: the repository's
+    /// engine/skills/params/<robot>.ron, else the built-in copy]
+    #[arg(long, value_name = "FILE")]
+    pub skill_params: Option<PathBuf>,
     /// Load the files once instead of reloading them on every edit.
     #[arg(long)]
     pub no_watch: bool,
@@ -59,14 +63,35 @@ impl DataArgs {
     }
 }
 
-/// A player that runs its behavior tree from `source`.
+impl DataArgs {
+    /// The skill parameters for players of `model` (watched unless `--no-watch`). Without
+    /// `--skill-params` and outside a checkout, the copy built into the binary.
+    pub fn skills(&self, model: &RobotModel) -> Result<SkillSource, Box<dyn std::error::Error>> {
+        let file = match &self.skill_params {
+            Some(path) => path.clone(),
+            None => {
+                let shipped = libero_agent::build::default_skill_params_file(model);
+                if !shipped.is_file() {
+                    return Ok(SkillSource::Builtin);
+                }
+                shipped
+            }
+        };
+        Ok(SkillSource::from_file(&file, model, !self.no_watch)?)
+    }
+}
+
+/// A player that runs its behavior tree from `source` with skill parameters from `skills`.
 pub fn build_player(
     model: &Arc<RobotModel>,
     team: &str,
     unum: u32,
     source: &LibrarySource,
+    skills: &SkillSource,
 ) -> Result<Player, Box<dyn std::error::Error>> {
-    Ok(libero_agent::build::tree_player(model, team, unum, source)?)
+    Ok(libero_agent::build::tree_player(
+        model, team, unum, source, skills,
+    )?)
 }
 
 /// The evaluation log: one JSON line per cycle per agent.

@@ -32,6 +32,9 @@ pub fn run(args: TeamArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
     let source = args.data.source()?;
     let mut players = Vec::new();
+    // One parameter file (and watcher) for the whole team, checked against the first robot:
+    // every NAO type shares nao.ron.
+    let mut skills = None;
     let simspark = args.robot.eq_ignore_ascii_case("nao");
     let types = simspark_team_types(args.players as usize);
     for unum in 1..=args.players {
@@ -44,7 +47,11 @@ pub fn run(args: TeamArgs) -> CliResult {
         if simspark && model.server != ServerKind::SimSpark {
             return Err(format!("{name} is not a SimSpark robot").into());
         }
-        let mut player = build_player(&model, &args.team, unum, &source)?;
+        let skills = match &skills {
+            Some(s) => s,
+            None => skills.insert(args.data.skills(&model)?),
+        };
+        let mut player = build_player(&model, &args.team, unum, &source, skills)?;
         args.log.attach(&mut player, &args.team, unum, true)?;
         players.push(player);
     }
