@@ -21,6 +21,8 @@ enum Native {
     Stand,
     LookAround,
     WalkTo,
+    KickTo,
+    OpponentGoal,
     BallPosition,
     BallDistance,
     MyPosition,
@@ -29,7 +31,7 @@ enum Native {
     AmClosestToBall,
 }
 
-const HANDLERS: [(NativeKind, &str, Native); 13] = [
+const HANDLERS: [(NativeKind, &str, Native); 15] = [
     (NativeKind::Condition, "PlayModeIs", Native::PlayModeIs),
     (NativeKind::Condition, "CanBeam", Native::CanBeam),
     (NativeKind::Condition, "IsFallen", Native::IsFallen),
@@ -41,6 +43,8 @@ const HANDLERS: [(NativeKind, &str, Native); 13] = [
     (NativeKind::Action, "Stand", Native::Stand),
     (NativeKind::Action, "LookAround", Native::LookAround),
     (NativeKind::Action, "WalkTo", Native::WalkTo),
+    (NativeKind::Action, "KickTo", Native::KickTo),
+    (NativeKind::Query, "opponent_goal", Native::OpponentGoal),
     (NativeKind::Query, "ball_position", Native::BallPosition),
     (NativeKind::Query, "ball_distance", Native::BallDistance),
     (NativeKind::Query, "my_position", Native::MyPosition),
@@ -190,6 +194,46 @@ impl AgentHost<'_> {
     }
 }
 
+/// A ball rolling faster than this [m/s], away from the robot, has been kicked.
+const KICKED_BALL_M_S: f64 = 0.8;
+
+impl AgentHost<'_> {
+    fn kick_to(&mut self, target: Vec2, distance: f64, lost_after: f64) -> Status {
+        let world = self.world;
+        let ball_age = world.ball.age(world.time);
+        if !world.me.localized || ball_age > 0.5 {
+            self.intent.head = HeadIntent::LookAround {
+                amplitude_deg: None,
+                period_s: None,
+            };
+            return if ball_age > lost_after {
+                Status::Failure
+            } else {
+                Status::Running
+            };
+        }
+        let ball = world.ball.position;
+        let [mx, my] = world.me.position;
+        let [vx, vy] = world.ball.velocity;
+        let away = (ball[0] - mx) * vx + (ball[1] - my) * vy > 0.0;
+        if vx.hypot(vy) > KICKED_BALL_M_S && away {
+            return Status::Success;
+        }
+        let [tx, ty] = world.to_own_frame([target.x, target.y]);
+        let yaw = world.me.yaw_deg.to_radians();
+        let (s, c) = yaw.sin_cos();
+        let (dx, dy) = (ball[0] - mx, ball[1] - my);
+        let direction = (ty - ball[1]).atan2(tx - ball[0]) - yaw;
+        let to_target = (tx - ball[0]).hypot(ty - ball[1]);
+        self.intent.body = BodyIntent::Kick {
+            ball: [c * dx + s * dy, -s * dx + c * dy],
+            direction_deg: direction.sin().atan2(direction.cos()).to_degrees(),
+            distance_m: if distance > 0.0 { distance } else { to_target },
+        };
+        Status::Running
+    }
+}
+
 impl Host for AgentHost<'_> {
     fn now(&self) -> f64 {
         self.world.time
@@ -201,6 +245,10 @@ impl Host for AgentHost<'_> {
             Some(Native::BallDistance) => Value::Float(self.ball().distance(self.me())),
             Some(Native::MyPosition) => Value::Vec2(self.me()),
             Some(Native::FormationPosition) => Value::Vec2(self.formation_position()),
+            Some(Native::OpponentGoal) => Value::Vec2(Vec2 {
+                x: self.world.field.half_extent().0,
+                y: 0.0,
+            }),
             Some(Native::PlayTime) => Value::Float(self.world.game.play_time),
             Some(Native::AmClosestToBall) => Value::Bool(self.am_closest_to_ball()),
             _ => Value::Bool(false),
@@ -249,6 +297,7 @@ impl Host for AgentHost<'_> {
                 Status::Running
             }
             Some(Native::WalkTo) => self.walk_to(args.vec2(0), args.float(1), args.float(2)),
+            Some(Native::KickTo) => self.kick_to(args.vec2(0), args.float(1), args.float(2)),
             _ => Status::Failure,
         }
     }
@@ -275,5 +324,69 @@ mod tests {
             HANDLERS.len(),
             "a handler names a node the vocabulary lacks"
         );
+    }
+
+    fn kick_to_in(world: &World, target: Vec2) -> (Status, Intent) {
+        let vocabulary = vocabulary();
+        let natives = Natives::new(&vocabulary);
+        let library =
+            libero_behavior::Library::load(&crate::build::default_data_dirs(), &vocabulary)
+                .unwrap();
+        let mut intent = Intent::default();
+        let mut host = AgentHost {
+            world,
+            strategy: library.strategy(),
+            natives: &natives,
+            intent: &mut intent,
+        };
+        let id = vocabulary.find(NativeKind::Action, "KickTo").unwrap();
+        let args = [Value::Vec2(target), Value::Float(0.0), Value::Float(4.0)];
+        let status = host.action(id, Args(&args));
+        (status, intent)
+    }
+
+    #[test]
+    fn kick_to_asks_for_a_kick_in_the_robot_frame_and_succeeds_once_the_ball_rolls_away() {
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let mut world = World::new(&model, "Libero", 2);
+        // The right team: own frame = global frame turned by 180°.
+        world.game.side = Some(Side::Right);
+        world.time = 10.0;
+        world.me.localized = true;
+        world.me.position = [1.0, 1.0];
+        world.me.yaw_deg = 180.0; // facing the opponent goal at global −x
+        world.ball.position = [0.0, 2.0];
+        world.ball.last_seen_time = Some(10.0);
+        // Own frame: robot (−1, −1), ball (0, −2); target (4, −2) lies straight beyond the ball
+        // along own +x, i.e. straight ahead of the robot.
+        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0));
+        assert_eq!(status, Status::Running);
+        let BodyIntent::Kick {
+            ball,
+            direction_deg,
+            distance_m,
+        } = intent.body
+        else {
+            panic!("no kick asked for: {:?}", intent.body)
+        };
+        // Ball 1 m ahead and 1 m to the right (robot frame: y left).
+        assert!(
+            (ball[0] - 1.0).abs() < 1e-9 && (ball[1] + 1.0).abs() < 1e-9,
+            "{ball:?}"
+        );
+        assert!(direction_deg.abs() < 1e-9, "{direction_deg}");
+        assert!((distance_m - 4.0).abs() < 1e-9, "{distance_m}");
+
+        // Rolling away from the robot: kicked.
+        world.ball.velocity = [-1.5, 0.5];
+        assert_eq!(kick_to_in(&world, Vec2::new(4.0, -2.0)).0, Status::Success);
+        // Rolling towards the robot: not our kick.
+        world.ball.velocity = [1.5, -0.5];
+        assert_eq!(kick_to_in(&world, Vec2::new(4.0, -2.0)).0, Status::Running);
+        // Unseen for longer than `lost_after`: give up, scanning for it.
+        world.time = 15.0;
+        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0));
+        assert_eq!(status, Status::Failure);
+        assert!(matches!(intent.head, HeadIntent::LookAround { .. }));
     }
 }

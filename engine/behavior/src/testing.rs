@@ -99,6 +99,36 @@ impl Vocabulary {
                         .doc("arrival radius"),
                 ),
             )
+            .with(
+                NodeSpec::action(
+                    "KickTo",
+                    "Kicks the ball towards a field point: the kick skill walks to its kicking place behind the ball from any side, then kicks (short or long by distance). Succeeds once the ball is seen rolling away; fails when the ball has not been seen for `lost_after` seconds.",
+                )
+                .param(
+                    ParamSpec::new("target", Vec2)
+                        .unit("m")
+                        .doc("where the ball should go, own frame"),
+                )
+                .param(
+                    ParamSpec::new("distance", Float)
+                        .unit("m")
+                        .range(0.0, 40.0)
+                        .default(Value::Float(0.0))
+                        .doc("how far to kick; 0 = as far as the target"),
+                )
+                .param(
+                    ParamSpec::new("lost_after", Float)
+                        .unit("s")
+                        .range(0.5, 30.0)
+                        .default(Value::Float(4.0))
+                        .doc("give up when the ball is unseen this long"),
+                ),
+            )
+            .with(NodeSpec::query(
+                "opponent_goal",
+                Vec2,
+                "Centre of the opponent's goal line (m, own frame).",
+            ))
             .with(NodeSpec::query(
                 "ball_position",
                 Vec2,
@@ -166,6 +196,8 @@ impl ScriptedHost {
             Value::Vec2(Vec2::new(-8.0, 2.0)),
         );
         host.queries.insert("play_time".into(), Value::Float(0.0));
+        host.queries
+            .insert("opponent_goal".into(), Value::Vec2(Vec2::new(14.0, 0.0)));
         host.queries
             .insert("am_closest_to_ball".into(), Value::Bool(false));
         host
