@@ -143,8 +143,7 @@ impl ServerProcess {
         if self.options.sync {
             cmd.arg("--sync");
         }
-        let child = cmd
-            .spawn()
+        let child = spawn_tied_to_this_process(cmd)
             .map_err(|e| ServerError::Io(self.install.server_program().display().to_string(), e))?;
         log::info!(
             "rcssservermj pid {} on 127.0.0.1 agent port {} monitor port {} (log {})",
@@ -314,4 +313,109 @@ fn choose_ports(agent: Option<u16>, monitor: Option<u16>) -> Result<(u16, u16), 
             .port(),
     );
     Ok(ports)
+}
+
+/// Start `cmd` so that it dies with this process, however this process ends (a killed test
+/// or benchmark would otherwise leave a server running, and rcsssmj 0.2.1 grows by gigabytes
+/// over a long life). Linux delivers the parent-death signal when the *thread* that forked
+/// exits, so every server is forked from one thread that lives as long as the process.
+fn spawn_tied_to_this_process(mut cmd: Command) -> std::io::Result<Child> {
+    use std::os::unix::process::CommandExt;
+    use std::sync::mpsc;
+    use std::sync::Mutex;
+    type Request = (Command, mpsc::Sender<std::io::Result<Child>>);
+    static SPAWNER: Mutex<Option<mpsc::Sender<Request>>> = Mutex::new(None);
+
+    // SAFETY: between fork and exec only async-signal-safe calls are allowed; prctl is one.
+    unsafe {
+        cmd.pre_exec(|| {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    let requests = {
+        let mut spawner = SPAWNER.lock().unwrap_or_else(|p| p.into_inner());
+        spawner
+            .get_or_insert_with(|| {
+                let (tx, rx) = mpsc::channel::<Request>();
+                let started = std::thread::Builder::new()
+                    .name("server-spawner".into())
+                    .spawn(move || {
+                        for (mut cmd, reply) in rx {
+                            let _ = reply.send(cmd.spawn());
+                        }
+                    });
+                if let Err(e) = started {
+                    log::warn!("no spawner thread ({e}); servers fork from their caller");
+                }
+                tx
+            })
+            .clone()
+    };
+    let (reply_tx, reply_rx) = mpsc::channel();
+    match requests.send((cmd, reply_tx)) {
+        Ok(()) => reply_rx
+            .recv()
+            .unwrap_or_else(|_| Err(std::io::Error::other("the server spawner thread ended"))),
+        Err(mpsc::SendError((mut cmd, _))) => cmd.spawn(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::BufRead;
+
+    const PROBE: &str = "LIBERO_SPAWN_PROBE";
+
+    fn alive(pid: i32) -> bool {
+        // A zombie still answers kill(0); it has ended for our purposes.
+        std::fs::read_to_string(format!("/proc/{pid}/stat"))
+            .is_ok_and(|stat| !stat.split_whitespace().nth(2).is_some_and(|s| s == "Z"))
+    }
+
+    #[test]
+    fn a_spawned_program_dies_when_the_process_that_started_it_is_killed() {
+        if std::env::var_os(PROBE).is_some() {
+            // The child role: start a long sleep from a short-lived thread (as the optimizer's
+            // workers do), report its pid and wait to be killed.
+            let child = std::thread::spawn(|| {
+                let mut cmd = Command::new("sleep");
+                cmd.arg("60");
+                spawn_tied_to_this_process(cmd).unwrap()
+            })
+            .join()
+            .unwrap();
+            println!("spawned {}", child.id());
+            std::thread::sleep(Duration::from_secs(60));
+            return;
+        }
+        let mut probe = Command::new(std::env::current_exe().unwrap())
+            .args([
+                "--exact",
+                "process::tests::a_spawned_program_dies_when_the_process_that_started_it_is_killed",
+                "--nocapture",
+            ])
+            .env(PROBE, "1")
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let stdout = std::io::BufReader::new(probe.stdout.take().unwrap());
+        let pid: i32 = stdout
+            .lines()
+            .map_while(Result::ok)
+            .find_map(|l| l.strip_prefix("spawned ").and_then(|p| p.trim().parse().ok()))
+            .expect("the probe reports its child");
+        std::thread::sleep(Duration::from_millis(200));
+        assert!(alive(pid), "the spawned program outlived only its spawning thread");
+        probe.kill().unwrap();
+        let _ = probe.wait();
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while alive(pid) && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert!(!alive(pid), "pid {pid} survived the process that started it");
+    }
 }
