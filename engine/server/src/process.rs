@@ -373,7 +373,7 @@ mod tests {
     fn alive(pid: i32) -> bool {
         // A zombie still answers kill(0); it has ended for our purposes.
         std::fs::read_to_string(format!("/proc/{pid}/stat"))
-            .is_ok_and(|stat| !stat.split_whitespace().nth(2).is_some_and(|s| s == "Z"))
+            .is_ok_and(|stat| stat.split_whitespace().nth(2).is_none_or(|s| s != "Z"))
     }
 
     #[test]
@@ -381,7 +381,7 @@ mod tests {
         if std::env::var_os(PROBE).is_some() {
             // The child role: start a long sleep from a short-lived thread (as the optimizer's
             // workers do), report its pid and wait to be killed.
-            let child = std::thread::spawn(|| {
+            let mut child = std::thread::spawn(|| {
                 let mut cmd = Command::new("sleep");
                 cmd.arg("60");
                 spawn_tied_to_this_process(cmd).unwrap()
@@ -389,7 +389,8 @@ mod tests {
             .join()
             .unwrap();
             println!("spawned {}", child.id());
-            std::thread::sleep(Duration::from_secs(60));
+            let _ = child.wait(); // until this process is killed
+
             return;
         }
         let mut probe = Command::new(std::env::current_exe().unwrap())
@@ -406,16 +407,25 @@ mod tests {
         let pid: i32 = stdout
             .lines()
             .map_while(Result::ok)
-            .find_map(|l| l.strip_prefix("spawned ").and_then(|p| p.trim().parse().ok()))
+            .find_map(|l| {
+                l.strip_prefix("spawned ")
+                    .and_then(|p| p.trim().parse().ok())
+            })
             .expect("the probe reports its child");
         std::thread::sleep(Duration::from_millis(200));
-        assert!(alive(pid), "the spawned program outlived only its spawning thread");
+        assert!(
+            alive(pid),
+            "the spawned program outlived only its spawning thread"
+        );
         probe.kill().unwrap();
         let _ = probe.wait();
         let deadline = Instant::now() + Duration::from_secs(5);
         while alive(pid) && Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(20));
         }
-        assert!(!alive(pid), "pid {pid} survived the process that started it");
+        assert!(
+            !alive(pid),
+            "pid {pid} survived the process that started it"
+        );
     }
 }
