@@ -1,6 +1,6 @@
 //! Locomotion on the real rcssservermj (fast `--sync --no-realtime` mode), shortened for CI.
 //!
-//! The full measurements are `libero bench walk`. The bars sit below what the current walk
+//! The full measurements are `libero bench walk` and `libero bench getup`. The bars sit below what the current walk
 //! parameters reach in these runs (forward 0.46–0.47 m/s, sideways 0.18 m/s, turning 51°/s,
 //! measured 5 times in a row), so a regression fails but run-to-run scatter does not.
 
@@ -39,4 +39,45 @@ fn walks_sideways_and_turns_on_the_spot_without_falling() {
     eprintln!("turn {:.1} deg/s, fell at {:?}", t.speed, t.fell_at);
     assert_eq!(t.fell_at, None);
     assert!(t.speed >= 40.0, "turn {:.1} deg/s", t.speed);
+}
+
+/// Three get-ups from each side, each placed with another heading, roll and position, started
+/// by the agent's own fall detector; then a walk from the pose a get-up ends in.
+///
+/// Ignored until the key frames in `t1.ron` stand up (`libero bench getup` measures 0 of 20
+/// from either side so far, see NOTES.md); run it with `--ignored` after changing them.
+#[test]
+#[ignore = "the T1 get-up key frames do not stand up yet (issue #5)"]
+fn gets_up_from_front_and_back_then_walks() {
+    use libero_skills::getup::Lying;
+    use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
+    let (mut trial, params) = setup();
+    for (side, seed) in [(Lying::Front, 5), (Lying::Back, 6)] {
+        for placement in getup_bench::varied_placements(side, 3, seed) {
+            let run = getup_bench::get_up(&mut trial, &params, placement, GET_UP_LIMIT_S).unwrap();
+            eprintln!("{placement:?}: stood at {:?}", run.stood_at);
+            assert!(
+                run.succeeded(),
+                "no get-up within {GET_UP_LIMIT_S} s from {placement:?} (stood at {:?})",
+                run.stood_at
+            );
+        }
+    }
+    let placement = getup_bench::varied_placements(Lying::Back, 1, 9)[0];
+    let walk = getup_bench::walk_after_get_up(
+        &mut trial,
+        &params,
+        placement,
+        GET_UP_LIMIT_S + 0.5,
+        0.3,
+        3.0,
+    )
+    .unwrap();
+    eprintln!("walk after get-up: {walk:?}");
+    assert!(
+        walk.stood_at.is_some_and(|t| t < GET_UP_LIMIT_S),
+        "{walk:?}"
+    );
+    assert!(!walk.fell, "{walk:?}");
+    assert!(walk.walked_m > 0.3, "{walk:?}");
 }

@@ -35,6 +35,8 @@ pub struct Sample {
     /// Torso pitch (+ nose down) and roll (+ right side down) [deg], world frame.
     pub pitch_deg: f64,
     pub roll_deg: f64,
+    /// Angle between the torso's long axis and the vertical [deg]: 0 upright, 90 lying.
+    pub tilt_deg: f64,
     /// The posture the agent's own fall detector reported.
     pub posture: Posture,
 }
@@ -81,12 +83,61 @@ impl Recording {
     }
 }
 
+/// How a lying robot is placed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LyingPlacement {
+    /// Face down or on the back.
+    pub side: Lying,
+    /// Turned about the torso's long axis from lying flat [deg]; + turns the body's left side
+    /// up when face down. Real falls rarely end exactly flat.
+    pub roll_deg: f64,
+}
+
+impl LyingPlacement {
+    pub fn flat(side: Lying) -> Self {
+        Self {
+            side,
+            roll_deg: 0.0,
+        }
+    }
+
+    /// The torso orientation (w, x, y, z) for a robot heading `heading_deg`: turned about the
+    /// world's z axis, pitched ±90° about the body's y axis onto the ground, then rolled about
+    /// the torso's long (z) axis.
+    pub fn orientation(&self, heading_deg: f64) -> [f64; 4] {
+        let pitch = match self.side {
+            Lying::Front => std::f64::consts::FRAC_PI_2,
+            Lying::Back => -std::f64::consts::FRAC_PI_2,
+        };
+        let about = |axis: [f64; 3], angle: f64| {
+            let (s, c) = (angle / 2.0).sin_cos();
+            [c, axis[0] * s, axis[1] * s, axis[2] * s]
+        };
+        let q = quat_mul(
+            about([0.0, 0.0, 1.0], heading_deg.to_radians()),
+            about([0.0, 1.0, 0.0], pitch),
+        );
+        quat_mul(q, about([0.0, 0.0, 1.0], self.roll_deg.to_radians()))
+    }
+}
+
+fn quat_mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
+    let [aw, ax, ay, az] = a;
+    let [bw, bx, by, bz] = b;
+    [
+        aw * bw - ax * bx - ay * by - az * bz,
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+    ]
+}
+
 /// What to do in an episode.
 pub struct Episode<S> {
     /// Where the monitor places the robot: world x, y [m], heading [deg].
     pub start: [f64; 3],
-    /// Place the robot lying face down or on its back instead of standing.
-    pub lying: Option<Lying>,
+    /// Place the robot lying instead of standing.
+    pub lying: Option<LyingPlacement>,
     /// Stand this long after being placed before the script starts [s].
     pub settle_s: f64,
     /// Called every cycle with the world and the seconds since the script started; `None` ends
@@ -213,20 +264,7 @@ impl Trial {
                 "(agent (unum {UNUM}) (team Left) (move {x} {y} {PLACE_TORSO_Z_M} {heading}))"
             ),
             Some(lying) => {
-                // Heading about z, then pitched ±90° about the body's y axis onto the ground.
-                let (h, p) = (
-                    heading.to_radians() / 2.0,
-                    match lying {
-                        Lying::Front => std::f64::consts::FRAC_PI_4,
-                        Lying::Back => -std::f64::consts::FRAC_PI_4,
-                    },
-                );
-                let (w, qx, qy, qz) = (
-                    h.cos() * p.cos(),
-                    -h.sin() * p.sin(),
-                    h.cos() * p.sin(),
-                    h.sin() * p.cos(),
-                );
+                let [w, qx, qy, qz] = lying.orientation(heading);
                 format!("(agent (unum {UNUM}) (team Left) (move3d {x} {y} {LYING_TORSO_Z_M} {w} {qx} {qy} {qz}))")
             }
         };
@@ -325,12 +363,56 @@ fn sample(world: &World, t: f64) -> Sample {
     let roll_deg = (2.0 * (w * x + y * z))
         .atan2(1.0 - 2.0 * (x * x + y * y))
         .to_degrees();
+    let tilt_deg = (1.0 - 2.0 * (x * x + y * y))
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees();
     Sample {
         t,
         position,
         yaw_deg,
         pitch_deg,
         roll_deg: -roll_deg,
+        tilt_deg,
         posture: world.body.posture,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// World direction of a body axis under orientation `q` (w, x, y, z).
+    fn rotate(q: [f64; 4], v: [f64; 3]) -> [f64; 3] {
+        let p = quat_mul(
+            quat_mul(q, [0.0, v[0], v[1], v[2]]),
+            [q[0], -q[1], -q[2], -q[3]],
+        );
+        [p[1], p[2], p[3]]
+    }
+
+    fn close(a: [f64; 3], b: [f64; 3]) -> bool {
+        a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9)
+    }
+
+    #[test]
+    fn lying_placements_face_the_ground_or_the_sky_and_roll_about_the_long_axis() {
+        let front = LyingPlacement::flat(Lying::Front).orientation(0.0);
+        // Chest (body x) down, head (body z) towards the heading.
+        assert!(close(rotate(front, [1.0, 0.0, 0.0]), [0.0, 0.0, -1.0]));
+        assert!(close(rotate(front, [0.0, 0.0, 1.0]), [1.0, 0.0, 0.0]));
+        let back = LyingPlacement::flat(Lying::Back).orientation(90.0);
+        assert!(close(rotate(back, [1.0, 0.0, 0.0]), [0.0, 0.0, 1.0]));
+        assert!(close(rotate(back, [0.0, 0.0, 1.0]), [0.0, -1.0, 0.0]));
+        // Rolled face down: the long axis stays horizontal, the left side comes up.
+        let rolled = LyingPlacement {
+            side: Lying::Front,
+            roll_deg: 20.0,
+        }
+        .orientation(30.0);
+        let head = rotate(rolled, [0.0, 0.0, 1.0]);
+        assert!(head[2].abs() < 1e-9);
+        let left = rotate(rolled, [0.0, 1.0, 0.0]);
+        assert!((left[2] - 20f64.to_radians().sin()).abs() < 1e-9);
     }
 }

@@ -9,8 +9,9 @@ pub mod bench;
 pub mod cmaes;
 pub mod course;
 pub mod episode;
+pub mod getup_bench;
 pub mod measure;
 pub mod optimize;
 
 pub use course::Course;
-pub use episode::{Episode, Recording, Sample, Trial, TrialError};
+pub use episode::{Episode, LyingPlacement, Recording, Sample, Trial, TrialError};

@@ -63,6 +63,7 @@ mod tests {
             yaw_deg: yaw,
             pitch_deg: 0.0,
             roll_deg: 0.0,
+            tilt_deg: 0.0,
             posture: Posture::Upright,
         }
     }

@@ -1,9 +1,11 @@
-//! `libero bench walk|kick`: locomotion measurements on a real server started by the command.
+//! `libero bench walk|getup`: locomotion measurements on a real server started by the command.
 
 use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_model::RobotModel;
+use libero_skills::getup::Lying;
 use libero_skills::SkillParams;
+use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
 use libero_trial::{bench, Trial};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -12,6 +14,10 @@ use std::process::ExitCode;
 pub enum Measure {
     /// Forward over 20 m, sideways, turning on the spot, 5 minutes of random commands.
     Walk,
+    /// 20 get-ups from lying face down and 20 from the back, each placed with another heading,
+    /// roll and position; then one walk after a get-up.
+    #[value(name = "getup")]
+    GetUp,
 }
 
 #[derive(Args)]
@@ -20,10 +26,11 @@ pub struct BenchArgs {
     /// A skill parameter file instead of the built-in one.
     #[arg(long)]
     pub params: Option<PathBuf>,
-    /// The CI version: 10 m forward, 10 s sideways and turning, 60 s of random commands.
+    /// The CI version: 10 m forward, 10 s sideways and turning, 60 s of random commands;
+    /// 3 get-ups from each side.
     #[arg(long)]
     pub short: bool,
-    /// Seed of the random course.
+    /// Seed of the random course or of the get-up placements.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -36,6 +43,7 @@ pub fn run(args: BenchArgs) -> CliResult {
     };
     match args.what {
         Measure::Walk => bench_walk(&params, &args),
+        Measure::GetUp => bench_get_up(&params, &args),
     }
 }
 
@@ -72,3 +80,52 @@ fn bench_walk(params: &SkillParams, args: &BenchArgs) -> CliResult {
     );
     Ok(ExitCode::SUCCESS)
 }
+
+fn bench_get_up(params: &SkillParams, args: &BenchArgs) -> CliResult {
+    let runs = if args.short { 3 } else { 20 };
+    let mut trial = Trial::start()?;
+    for (name, side) in [("front", Lying::Front), ("back", Lying::Back)] {
+        let mut done = Vec::new();
+        for placement in getup_bench::varied_placements(side, runs, args.seed) {
+            let run = getup_bench::get_up(&mut trial, params, placement, GET_UP_LIMIT_S)?;
+            log::info!(
+                "getup {name}: heading {:.0} deg, roll {:.0} deg: stood at {:?}",
+                placement.start[2],
+                placement.lying.roll_deg,
+                run.stood_at
+            );
+            done.push(run);
+        }
+        let s = getup_bench::summarize(&done);
+        let time = |t: Option<f64>| t.map_or_else(|| "-".to_string(), |t| format!("{t:.1} s"));
+        println!(
+            "getup {name} {}/{} successes, mean {}, worst {} (standing within {GET_UP_LIMIT_S:.0} s, held {:.1} s)",
+            s.successes,
+            s.runs,
+            time(s.mean_s),
+            time(s.worst_s),
+            getup_bench::STANDING_HOLD_S
+        );
+    }
+    let placement = getup_bench::varied_placements(Lying::Front, 1, args.seed)[0];
+    let walk = getup_bench::walk_after_get_up(
+        &mut trial,
+        params,
+        placement,
+        WALK_AFTER_S,
+        params.walk.max_forward_m_s * 0.6,
+        WALK_S,
+    )?;
+    println!(
+        "getup then walk: stood at {}, walked {:.2} m in {WALK_S:.0} s ({})",
+        walk.stood_at
+            .map_or_else(|| "never".to_string(), |t| format!("{t:.1} s")),
+        walk.walked_m,
+        if walk.fell { "FELL" } else { "no fall" }
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The walk after a get-up starts this long after the placement (the get-up is over by then).
+const WALK_AFTER_S: f64 = GET_UP_LIMIT_S + 0.5;
+const WALK_S: f64 = 4.0;
