@@ -1,6 +1,7 @@
 //! Skill parameters as RON data, checked against the robot model on load.
 
 use crate::getup::GetUpParams;
+use crate::kick::KickParams;
 use crate::walk::WalkParams;
 use libero_model::RobotModel;
 use serde::{Deserialize, Serialize};
@@ -24,6 +25,7 @@ pub struct SkillParams {
     pub look_around: LookAround,
     pub walk: WalkParams,
     pub get_up: GetUpParams,
+    pub kick: KickParams,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -113,6 +115,19 @@ impl SkillParams {
             }
         }
         self.get_up.validate(model).map_err(invalid)?;
+        self.kick.validate().map_err(invalid)?;
+        for motion in [&self.kick.short, &self.kick.long] {
+            for joint in motion.swing_gains.keys() {
+                if model.joint_id(&format!("left_{joint}")).is_none()
+                    || model.joint_id(&format!("right_{joint}")).is_none()
+                {
+                    return Err(invalid(format!(
+                        "kick: swing_gains: `{joint}` is not a leg joint of {} (`left_{joint}` and `right_{joint}` must exist)",
+                        model.name
+                    )));
+                }
+            }
+        }
         Ok(())
     }
 

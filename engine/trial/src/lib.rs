@@ -9,6 +9,7 @@ pub mod bench;
 pub mod cmaes;
 pub mod course;
 pub mod episode;
+pub mod kick_bench;
 pub mod measure;
 pub mod optimize;
 

@@ -4,7 +4,7 @@ use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
-use libero_trial::{bench, Trial};
+use libero_trial::{bench, kick_bench, Trial};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -12,6 +12,8 @@ use std::process::ExitCode;
 pub enum Measure {
     /// Forward over 20 m, sideways, turning on the spot, 5 minutes of random commands.
     Walk,
+    /// 20 long and 20 short kicks from all round the ball (5 each with `--short`).
+    Kick,
 }
 
 #[derive(Args)]
@@ -20,10 +22,11 @@ pub struct BenchArgs {
     /// A skill parameter file instead of the built-in one.
     #[arg(long)]
     pub params: Option<PathBuf>,
-    /// The CI version: 10 m forward, 10 s sideways and turning, 60 s of random commands.
+    /// The CI version: 10 m forward, 10 s sideways and turning, 60 s of random commands; 5
+    /// kicks of each kind.
     #[arg(long)]
     pub short: bool,
-    /// Seed of the random course.
+    /// Seed of the random course or the kick setups.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -36,6 +39,7 @@ pub fn run(args: BenchArgs) -> CliResult {
     };
     match args.what {
         Measure::Walk => bench_walk(&params, &args),
+        Measure::Kick => bench_kick(&params, &args),
     }
 }
 
@@ -70,5 +74,34 @@ fn bench_walk(params: &SkillParams, args: &BenchArgs) -> CliResult {
         usize::from(fell.is_some()),
         fell.map_or(String::new(), |t| format!(", fell at {t:.1} s"))
     );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Distances asked for: beyond `long_kick_from_m` for the long kick, below it for the short one.
+const LONG_KICK_REQUEST_M: f64 = 8.0;
+const SHORT_KICK_REQUEST_M: f64 = 1.5;
+
+fn bench_kick(params: &SkillParams, args: &BenchArgs) -> CliResult {
+    let count = if args.short { 5 } else { 20 };
+    let mut trial = Trial::start()?;
+    for (name, distance, seed) in [
+        ("long", LONG_KICK_REQUEST_M, args.seed),
+        ("short", SHORT_KICK_REQUEST_M, args.seed.wrapping_add(1000)),
+    ] {
+        let (_, s) = kick_bench::kicks(&mut trial, params, count, seed, distance)?;
+        println!(
+            "kick {name} {} kicks: mean distance {:.1} m (min {:.1}), mean |direction error| {:.1}° \
+             (max {:.1}°), {} falls, {} bumped, {} not kicked, mean time to kick {:.1} s",
+            s.kicks,
+            s.mean_distance_m,
+            s.min_distance_m,
+            s.mean_abs_direction_error_deg,
+            s.max_abs_direction_error_deg,
+            s.falls,
+            s.bumps,
+            s.kicks - s.kicked,
+            s.mean_time_to_kick_s
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
