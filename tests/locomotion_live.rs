@@ -40,3 +40,46 @@ fn walks_sideways_and_turns_on_the_spot_without_falling() {
     assert_eq!(t.fell_at, None);
     assert!(t.speed >= 40.0, "turn {:.1} deg/s", t.speed);
 }
+
+/// Three long kicks from different sides of the ball (the robot starts beside, behind and in
+/// front of it, facing away), each asked for 8 m in another direction. The full measurement is
+/// `libero bench kick`.
+#[test]
+fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
+    use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
+    let (mut trial, params) = setup();
+    let setups = [
+        // Behind the ball, facing the kick direction.
+        KickSetup {
+            robot: [-6.0, 0.0, 0.0],
+            ball: [-5.0, 0.0],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        },
+        // Beside the ball, facing away from it.
+        KickSetup {
+            robot: [0.0, -3.0, -90.0],
+            ball: [0.0, -1.5],
+            direction_deg: 90.0,
+            distance_m: 8.0,
+        },
+        // In front of the ball: it has to walk round.
+        KickSetup {
+            robot: [2.0, 2.0, 180.0],
+            ball: [3.0, 1.0],
+            direction_deg: -135.0,
+            distance_m: 8.0,
+        },
+    ];
+    for s in setups {
+        let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
+        eprintln!("{s:?}: {o:?}");
+        assert!(o.kicked && !o.fell && !o.bumped, "{o:?}");
+        assert!(o.distance_m >= 4.0, "kicked {:.2} m", o.distance_m);
+        assert!(
+            o.direction_error_deg.abs() <= 25.0,
+            "direction off by {:.1}°",
+            o.direction_error_deg
+        );
+    }
+}

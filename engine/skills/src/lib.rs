@@ -194,7 +194,8 @@ impl Skills {
             self.kick.reset();
             ActiveSkill::GetUp
         } else if kick == Some(kick::KickOutput::Motion) {
-            self.kick.write_pose(world.time, &mut self.pose);
+            self.kick
+                .write_pose(world, &self.params.kick, &mut self.pose);
             ActiveSkill::Kick
         } else if request.is_some() || self.walk.is_stepping() {
             self.walk

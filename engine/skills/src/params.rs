@@ -218,6 +218,33 @@ mod tests {
     }
 
     #[test]
+    fn out_of_range_kick_numbers_name_their_field() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let mut p = SkillParams::builtin(&t1).unwrap();
+        p.kick.long.swing_s = 0.0;
+        let e = p.validate(&t1).unwrap_err().to_string();
+        assert!(e.contains("kick.long.swing_s = 0 is outside"), "{e}");
+        let mut p = SkillParams::builtin(&t1).unwrap();
+        p.kick.approach.clearance_m = 0.5;
+        let e = p.validate(&t1).unwrap_err().to_string();
+        assert!(e.contains("kick.approach.clearance_m"), "{e}");
+        let shipped = include_str!("../params/t1.ron");
+        let text = shipped.replacen(
+            "\"hip_pitch\": Gains(kp: 1200.0",
+            "\"hip_pich\": Gains(kp: 1200.0",
+            1,
+        );
+        assert_ne!(text, shipped);
+        let e = SkillParams::from_ron("t1.ron", &text, &t1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("swing_gains: `hip_pich` is not a leg joint"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn parameters_survive_a_round_trip_through_ron() {
         let t1 = RobotModel::builtin("T1").unwrap();
         let p = SkillParams::builtin(&t1).unwrap();

@@ -16,19 +16,32 @@ fn main() {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),
         None => SkillParams::builtin(&model).unwrap(),
     };
-    let seed = std::env::var("SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
+    let seed = std::env::var("SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
     let list: Vec<KickSetup> = if std::env::var("AROUND").is_ok() {
         setups(count, seed, distance)
     } else {
         let ap = &params.kick.approach;
-        let side = if std::env::var("RIGHT").is_ok() { -1.0 } else { 1.0 };
+        let side = if std::env::var("RIGHT").is_ok() {
+            -1.0
+        } else {
+            1.0
+        };
+        let heading: f64 = std::env::var("HEADING")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0.0);
+        let (c, s) = (heading.to_radians().cos(), heading.to_radians().sin());
         (0..count)
             .map(|i| {
                 let y = -2.0 + i as f64;
+                let (ax, ay) = (ap.ball_ahead_m, side * ap.ball_beside_m);
                 KickSetup {
-                    robot: [-5.0, y, 0.0],
-                    ball: [-5.0 + ap.ball_ahead_m, y + side * ap.ball_beside_m],
-                    direction_deg: 0.0,
+                    robot: [-5.0, y, heading],
+                    ball: [-5.0 + ax * c - ay * s, y + ax * s + ay * c],
+                    direction_deg: heading,
                     distance_m: distance,
                 }
             })

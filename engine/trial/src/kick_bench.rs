@@ -180,9 +180,7 @@ pub fn kick_once(
             // Wait for the ball to come to rest.
             if let Some(b) = truth_ball {
                 match last_ball {
-                    Some((before, since))
-                        if (b[0] - before[0]).hypot(b[1] - before[1]) < 0.005 =>
-                    {
+                    Some((before, since)) if (b[0] - before[0]).hypot(b[1] - before[1]) < 0.005 => {
                         if t - since >= BALL_STILL_S {
                             p.ball_end = Some(b);
                             return None;
@@ -236,11 +234,7 @@ pub fn kick_once(
     let mut outcome = KickOutcome {
         kicked: p.kick_started_at.is_some(),
         time_to_kick_s: p.kick_started_at,
-        fell: p.fell
-            || rec
-                .samples
-                .iter()
-                .any(|s| s.position[2] < FALLEN_TORSO_Z_M),
+        fell: p.fell || rec.samples.iter().any(|s| s.position[2] < FALLEN_TORSO_Z_M),
         ..Default::default()
     };
     if let (Some(start), Some(at_kick)) = (p.ball_start, p.ball_at_kick) {
@@ -285,7 +279,10 @@ impl KickSummary {
             kicks: outcomes.len(),
             kicked: outcomes.iter().filter(|o| o.kicked).count(),
             mean_distance_m: outcomes.iter().map(|o| o.distance_m).sum::<f64>() / n,
-            min_distance_m: outcomes.iter().map(|o| o.distance_m).fold(f64::INFINITY, f64::min),
+            min_distance_m: outcomes
+                .iter()
+                .map(|o| o.distance_m)
+                .fold(f64::INFINITY, f64::min),
             mean_abs_direction_error_deg: outcomes.iter().map(error).sum::<f64>() / n,
             max_abs_direction_error_deg: outcomes.iter().map(error).fold(0.0, f64::max),
             falls: outcomes.iter().filter(|o| o.fell).count(),

