@@ -81,3 +81,53 @@ fn gets_up_from_front_and_back_then_walks() {
     assert!(!walk.fell, "{walk:?}");
     assert!(walk.walked_m > 0.3, "{walk:?}");
 }
+
+/// Three long kicks from different sides of the ball (the robot starts behind it, beside it
+/// facing away, and in front of it), each asked for 8 m in another direction. The full
+/// measurement is `libero bench kick`: after a free approach about one kick in five is not made
+/// in time or ends in a fall (see NOTES.md), so this asks for two good kicks out of three, each
+/// travelling and keeping its direction within bars below what the bench measured for kicks
+/// that happened (3.2–8.8 m, |error| mostly under 20°).
+#[test]
+fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
+    use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
+    let (mut trial, params) = setup();
+    let setups = [
+        // Behind the ball, off to one side.
+        KickSetup {
+            robot: [-6.0, 0.8, 0.0],
+            ball: [-5.0, 0.0],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        },
+        // Beside the ball, facing away from it.
+        KickSetup {
+            robot: [0.0, -3.0, -90.0],
+            ball: [0.0, -1.5],
+            direction_deg: 90.0,
+            distance_m: 8.0,
+        },
+        // In front of the ball: it has to walk round.
+        KickSetup {
+            robot: [2.0, 2.0, 180.0],
+            ball: [3.0, 1.0],
+            direction_deg: -135.0,
+            distance_m: 8.0,
+        },
+    ];
+    let mut good = 0;
+    for s in setups {
+        let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
+        eprintln!("{s:?}: {o:?}");
+        if o.kicked && !o.fell {
+            assert!(o.distance_m >= 3.0, "kicked only {:.2} m", o.distance_m);
+            assert!(
+                o.direction_error_deg.abs() <= 30.0,
+                "direction off by {:.1}°",
+                o.direction_error_deg
+            );
+            good += 1;
+        }
+    }
+    assert!(good >= 2, "{good} of 3 kicks made without a fall");
+}

@@ -2,13 +2,17 @@
 
 use crate::natives::{AgentHost, Natives};
 use libero_behavior::{Library, LiveLibrary, TreeRunner};
-use libero_skills::{BodyIntent, HeadIntent, Intent};
+use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
 use libero_world::World;
 use std::sync::Arc;
 
 /// Chooses what the skills should do this cycle.
 pub trait Decider: Send {
     fn decide(&mut self, world: &World) -> Intent;
+
+    /// What the skills made of the latest intent (called after every `decide`): e.g. a kick
+    /// node succeeds once the kick is done.
+    fn observe(&mut self, _status: &SkillStatus) {}
 
     /// The active path of the latest decision, one line (for traces and tests).
     fn trace_line(&self) -> Option<String> {

@@ -45,6 +45,9 @@ pub struct GameSnapshot {
     pub play_mode: String,
     /// Frames received so far.
     pub frames: u64,
+    /// Ball centre [m], world frame, from the scene graph (ground truth; `None` before the first
+    /// full frame). Diff frames only carry moves of more than 5 mm, so this is that exact.
+    pub ball: Option<[f64; 3]>,
 }
 
 /// A monitor connection. A thread drains the stream (the server blocks on a full socket) and
@@ -70,6 +73,7 @@ impl Monitor {
                         if let Some(mut snapshot) = parse_game_state(text) {
                             if let Ok(mut s) = shared.lock() {
                                 snapshot.frames = s.frames + 1;
+                                snapshot.ball = parse_ball(text).or(s.ball);
                                 *s = snapshot;
                             }
                         }
@@ -146,7 +150,33 @@ pub fn parse_game_state(frame: &str) -> Option<GameSnapshot> {
             .get(mode)
             .map_or_else(|| format!("mode{mode}"), |m| m.to_string()),
         frames: 0,
+        ball: None,
     })
+}
+
+/// The ball's position from a frame's scene graph `((sg 1 0)full|diff (nd …))`, when the frame
+/// carries it. The ball is the first body under the world root (rcsssmj `state_info.py` walks the
+/// bodies in model order and the ball is the first body of world.xml); its node holds a `TRF`
+/// node whose `SLT` matrix is column-major, translation in elements 12–14. Diff frames leave the
+/// `TRF` out when the ball has not moved.
+pub fn parse_ball(frame: &str) -> Option<[f64; 3]> {
+    let start = frame.find("((sg ")?;
+    let item = sexp::top_level(&frame[start..]).next()?.ok()?.as_list()?;
+    let root = item
+        .iter()
+        .filter_map(|c| c.as_list())
+        .find(|c| c.head() == Some("nd"))?;
+    let ball = first_node(root)?;
+    let transform = first_node(ball)?;
+    let m = transform.child("SLT")?.tail_numbers::<16>()?;
+    Some([m[12], m[13], m[14]])
+}
+
+/// The first child node `(nd …)` of a scene-graph node.
+fn first_node(list: sexp::List<'_>) -> Option<sexp::List<'_>> {
+    list.tail()
+        .filter_map(|c| c.as_list())
+        .find(|c| c.head() == Some("nd"))
 }
 
 #[cfg(test)]
@@ -165,5 +195,20 @@ mod tests {
         assert_eq!(s.half, 1);
         assert_eq!((s.score_left, s.score_right), (0, 0));
         assert_eq!(s.play_mode, "KickOff_Right");
+    }
+
+    #[test]
+    fn ball_position_from_full_and_diff_scene_graphs() {
+        let dir = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../../shared/samples/rcssservermj/"
+        );
+        let full = std::fs::read_to_string(format!("{dir}monitor_first_frame.txt")).unwrap();
+        assert_eq!(parse_ball(full.trim()), Some([0.0, 0.0, 0.1099]));
+        // The sample diff frame shows a ball that had not moved: no position in it.
+        let diff = std::fs::read_to_string(format!("{dir}monitor_last_frame.txt")).unwrap();
+        assert_eq!(parse_ball(diff.trim()), None);
+        let moved = "((RSMP 1 0)((gt 1 0)1.0)((sg 1 0)diff(nd(nd(nd TRF(SLT 1 0 0 0 0 1 0 0 0 0 1 0 3.5 -2.25 0.11 1)(nd)))(nd(nd)))))";
+        assert_eq!(parse_ball(moved), Some([3.5, -2.25, 0.11]));
     }
 }

@@ -6,11 +6,13 @@
 
 pub mod getup;
 pub mod intent;
+pub mod kick;
 pub mod params;
 pub mod pose;
 pub mod walk;
 
 pub use intent::{BodyIntent, HeadIntent, Intent};
+pub use kick::{KickParams, KickState};
 pub use params::{ParamsError, SkillParams};
 pub use pose::{JointTarget, JointTargets};
 pub use walk::{Velocity, Walk, WalkParams};
@@ -24,6 +26,23 @@ pub enum ActiveSkill {
     Stand,
     Walk,
     GetUp,
+    Kick,
+}
+
+/// What the skill layer is doing, for the decision layer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SkillStatus {
+    pub active: ActiveSkill,
+    pub kick: KickState,
+}
+
+impl Default for SkillStatus {
+    fn default() -> Self {
+        Self {
+            active: ActiveSkill::Stand,
+            kick: KickState::Idle,
+        }
+    }
 }
 
 /// A blend from the previous skill's last pose into the current skill's output.
@@ -39,6 +58,7 @@ pub struct Skills {
     params: SkillParams,
     stand: Vec<f64>,
     walk: Walk,
+    kick: kick::Kick,
     get_up: getup::GetUp,
     active: ActiveSkill,
     blend: Option<Blend>,
@@ -55,6 +75,7 @@ impl Skills {
         let stand = params.stand_pose(model)?;
         Ok(Self {
             walk: Walk::new(model)?,
+            kick: kick::Kick::new(model)?,
             get_up: getup::GetUp::new(),
             params,
             last_pose: stand.clone(),
@@ -101,6 +122,19 @@ impl Skills {
         &self.walk
     }
 
+    /// Where the current kick request stands (`Idle` when no kick is requested).
+    pub fn kick_state(&self) -> KickState {
+        self.kick.state()
+    }
+
+    /// The active skill and the kick's state after the latest [`Self::act`].
+    pub fn status(&self) -> SkillStatus {
+        SkillStatus {
+            active: self.active,
+            kick: self.kick.state(),
+        }
+    }
+
     /// Joint targets realising `intent` this cycle.
     pub fn act(
         &mut self,
@@ -111,8 +145,33 @@ impl Skills {
     ) {
         self.pose.copy_from_slice(&self.stand);
         let walk_params = &self.params.walk;
+        let kick = match intent.body {
+            BodyIntent::Kick {
+                ball,
+                direction_deg,
+                distance_m,
+            } => Some(self.kick.update(
+                kick::KickRequest {
+                    ball,
+                    direction_deg,
+                    distance_m,
+                },
+                world.time,
+                self.walk.is_stepping(),
+                &self.params.kick,
+                walk_params,
+            )),
+            _ => {
+                self.kick.reset();
+                None
+            }
+        };
         let request = match intent.body {
-            BodyIntent::Stand | BodyIntent::GetUp | BodyIntent::Kick { .. } => None,
+            BodyIntent::Stand | BodyIntent::GetUp => None,
+            BodyIntent::Kick { .. } => match kick {
+                Some(kick::KickOutput::Walk(v)) => v,
+                _ => None,
+            },
             BodyIntent::Walk {
                 forward_m_s,
                 sideways_m_s,
@@ -138,7 +197,12 @@ impl Skills {
         );
         let active = if getting_up {
             self.walk.reset();
+            self.kick.reset();
             ActiveSkill::GetUp
+        } else if kick == Some(kick::KickOutput::Motion) {
+            self.kick
+                .write_pose(world, &self.params.kick, &mut self.pose);
+            ActiveSkill::Kick
         } else if request.is_some() || self.walk.is_stepping() {
             self.walk
                 .update(world, request, walk_params, &mut self.pose);
@@ -146,6 +210,12 @@ impl Skills {
         } else {
             ActiveSkill::Stand
         };
+        if kick.is_some() {
+            // Keep the ball in view near the feet.
+            if let Some(id) = model.joint_id("head_pitch") {
+                self.pose[id] = model.clamp_deg(id, self.params.kick.approach.look_down_deg);
+            }
+        }
         self.switch_to(active, world.time);
         if std::mem::take(&mut self.stand_changed) && self.blend.is_none() {
             self.blend = Some(Blend {
@@ -166,11 +236,16 @@ impl Skills {
                 out.set_gains(model, joint, g.kp, g.kd);
             }
         }
-        if self.active == ActiveSkill::Walk {
+        if matches!(self.active, ActiveSkill::Walk | ActiveSkill::Kick) {
             for (joint, g) in &self.params.walk.leg_gains {
                 for side in ["left", "right"] {
                     out.set_gains(model, &format!("{side}_{joint}"), g.kp, g.kd);
                 }
+            }
+        }
+        if self.active == ActiveSkill::Kick {
+            for (joint, kp, kd) in self.kick.swing_gains(world.time, &self.params.kick) {
+                out.set_gains(model, &joint, kp, kd);
             }
         }
         self.last_pose.copy_from_slice(&self.pose);

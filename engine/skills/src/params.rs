@@ -1,6 +1,7 @@
 //! Skill parameters as RON data, checked against the robot model on load.
 
 use crate::getup::GetUpParams;
+use crate::kick::KickParams;
 use crate::walk::WalkParams;
 use libero_model::RobotModel;
 use serde::{Deserialize, Serialize};
@@ -24,6 +25,7 @@ pub struct SkillParams {
     pub look_around: LookAround,
     pub walk: WalkParams,
     pub get_up: GetUpParams,
+    pub kick: KickParams,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -118,6 +120,19 @@ impl SkillParams {
             }
         }
         self.get_up.validate(model).map_err(invalid)?;
+        self.kick.validate().map_err(invalid)?;
+        for motion in [&self.kick.short, &self.kick.long] {
+            for joint in motion.swing_gains.keys() {
+                if model.joint_id(&format!("left_{joint}")).is_none()
+                    || model.joint_id(&format!("right_{joint}")).is_none()
+                {
+                    return Err(invalid(format!(
+                        "kick: swing_gains: `{joint}` is not a leg joint of {} (`left_{joint}` and `right_{joint}` must exist)",
+                        model.name
+                    )));
+                }
+            }
+        }
         Ok(())
     }
 
@@ -205,6 +220,33 @@ mod tests {
         p.walk.step_period_s = 5.0;
         let e = p.validate(&t1).unwrap_err().to_string();
         assert!(e.contains("walk.step_period_s = 5 is outside"), "{e}");
+    }
+
+    #[test]
+    fn out_of_range_kick_numbers_name_their_field() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let mut p = SkillParams::builtin(&t1).unwrap();
+        p.kick.long.swing_s = 0.0;
+        let e = p.validate(&t1).unwrap_err().to_string();
+        assert!(e.contains("kick.long.swing_s = 0 is outside"), "{e}");
+        let mut p = SkillParams::builtin(&t1).unwrap();
+        p.kick.approach.clearance_m = 0.5;
+        let e = p.validate(&t1).unwrap_err().to_string();
+        assert!(e.contains("kick.approach.clearance_m"), "{e}");
+        let shipped = include_str!("../params/t1.ron");
+        let text = shipped.replacen(
+            "\"hip_pitch\": Gains(kp: 1200.0",
+            "\"hip_pich\": Gains(kp: 1200.0",
+            1,
+        );
+        assert_ne!(text, shipped);
+        let e = SkillParams::from_ron("t1.ron", &text, &t1)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("swing_gains: `hip_pich` is not a leg joint"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -4,7 +4,7 @@ use libero_agent::{run_agent, AgentConfig, AgentStats, Decider, Player};
 use libero_model::RobotModel;
 use libero_server::{Monitor, ServerOptions, ServerProcess};
 use libero_skills::getup::Lying;
-use libero_skills::{Intent, SkillParams, Skills};
+use libero_skills::{Intent, SkillParams, SkillStatus, Skills};
 use libero_world::{Posture, World};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -155,6 +155,8 @@ pub struct Trial {
     episodes: u32,
     /// Episodes run on the current server process.
     episodes_on_server: u32,
+    /// What the skills of the running episode made of the latest intent.
+    status: Arc<Mutex<SkillStatus>>,
 }
 
 /// Torso height at which the monitor places the robot: soles just on the ground (§3.2).
@@ -183,6 +185,7 @@ impl Trial {
             model: Arc::new(RobotModel::builtin("T1").expect("the T1 model is built in")),
             episodes: 0,
             episodes_on_server: 0,
+            status: Arc::default(),
         })
     }
 
@@ -193,6 +196,12 @@ impl Trial {
     /// The server's monitor, shared with the running episode.
     pub fn monitor(&self) -> Arc<Mutex<Monitor>> {
         Arc::clone(&self.monitor)
+    }
+
+    /// The skill status of the running episode, updated every cycle (scripts watch a kick's
+    /// progress with it).
+    pub fn skill_status(&self) -> Arc<Mutex<SkillStatus>> {
+        Arc::clone(&self.status)
     }
 
     pub fn server(&self) -> &ServerProcess {
@@ -255,6 +264,9 @@ impl Trial {
     {
         self.episodes += 1;
         self.episodes_on_server += 1;
+        if let Ok(mut s) = self.status.lock() {
+            *s = SkillStatus::default();
+        }
         let skills = Skills::new(&self.model, params.clone())?;
         let recording = Arc::new(Mutex::new(Recording::default()));
         let shutdown = Arc::new(AtomicBool::new(false));
@@ -276,6 +288,7 @@ impl Trial {
             placed_at: None,
             place_command: Some(place),
             monitor: Arc::clone(&self.monitor),
+            status: Arc::clone(&self.status),
         };
         let mut player = Player::new(
             Arc::clone(&self.model),
@@ -308,6 +321,7 @@ struct ScriptedDecider<S> {
     placed_at: Option<f64>,
     place_command: Option<String>,
     monitor: Arc<Mutex<Monitor>>,
+    status: Arc<Mutex<SkillStatus>>,
 }
 
 impl<S> Decider for ScriptedDecider<S>
@@ -350,6 +364,12 @@ where
             r.intents.push(intent.clone());
         }
         intent
+    }
+
+    fn observe(&mut self, status: &SkillStatus) {
+        if let Ok(mut s) = self.status.lock() {
+            *s = *status;
+        }
     }
 }
 

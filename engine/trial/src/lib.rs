@@ -10,6 +10,7 @@ pub mod cmaes;
 pub mod course;
 pub mod episode;
 pub mod getup_bench;
+pub mod kick_bench;
 pub mod measure;
 pub mod optimize;
 

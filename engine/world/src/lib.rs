@@ -63,6 +63,9 @@ pub struct World {
     pub ball: BallEstimate,
     pub players: Players,
     pub truth: GroundTruth,
+    /// The ball as last seen, in the robot frame (x forwards, y left) at that moment, and the
+    /// time [s]. Taken straight from the camera, so errors of the self-estimate cancel.
+    pub ball_seen_relative: Option<(f64, [f64; 2])>,
     pub field: Arc<FieldGeometry>,
     pub params: Arc<WorldParams>,
     localizer: Localizer,
@@ -103,6 +106,7 @@ impl World {
             ball: BallEstimate::new(&params.ball),
             players: Players::default(),
             truth: GroundTruth::default(),
+            ball_seen_relative: None,
             field: Arc::new(field),
             params: Arc::new(params),
             localizer,
@@ -146,6 +150,17 @@ impl World {
             .and_then(|v| v.ball.as_ref())
             .and_then(geometry::polar_to_point)
             .and_then(|p| to_field(&p));
+        if let Some(b) = seen_ball {
+            let yaw = self.me.yaw_deg.to_radians();
+            let (dx, dy) = (b.x - self.me.position[0], b.y - self.me.position[1]);
+            let relative = [
+                dx * yaw.cos() + dy * yaw.sin(),
+                -dx * yaw.sin() + dy * yaw.cos(),
+            ];
+            if geometry::finite2(relative) {
+                self.ball_seen_relative = Some((self.time, relative));
+            }
+        }
         self.ball.update(self.time, seen_ball);
         for player in vision.map(|v| v.players.as_slice()).unwrap_or_default() {
             let relation = if player.team == self.game.team {
@@ -181,6 +196,25 @@ impl World {
         match self.game.side {
             Some(Side::Right) => geometry::wrap_deg(yaw_deg + 180.0),
             _ => yaw_deg,
+        }
+    }
+
+    /// The ball in the robot frame (x forwards, y left) [m]: the latest sighting when it is at
+    /// most `fresh_s` old (straight from the camera, so a wrong self-estimate does not matter),
+    /// otherwise the field estimate seen from the self-estimate.
+    pub fn ball_relative(&self, fresh_s: f64) -> [f64; 2] {
+        match self.ball_seen_relative {
+            Some((t, b)) if self.time - t <= fresh_s => b,
+            _ => {
+                let [bx, by] = self.ball.position;
+                let [mx, my] = self.me.position;
+                let yaw = self.me.yaw_deg.to_radians();
+                let (dx, dy) = (bx - mx, by - my);
+                [
+                    dx * yaw.cos() + dy * yaw.sin(),
+                    -dx * yaw.sin() + dy * yaw.cos(),
+                ]
+            }
         }
     }
 

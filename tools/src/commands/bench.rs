@@ -6,7 +6,7 @@ use libero_model::RobotModel;
 use libero_skills::getup::Lying;
 use libero_skills::SkillParams;
 use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
-use libero_trial::{bench, Trial};
+use libero_trial::{bench, kick_bench, Trial};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -18,6 +18,8 @@ pub enum Measure {
     /// roll and position; then one walk after a get-up.
     #[value(name = "getup")]
     GetUp,
+    /// 20 long and 20 short kicks from all round the ball (5 each with `--short`).
+    Kick,
 }
 
 #[derive(Args)]
@@ -27,10 +29,10 @@ pub struct BenchArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// The CI version: 10 m forward, 10 s sideways and turning, 60 s of random commands;
-    /// 3 get-ups from each side.
+    /// 3 get-ups from each side; 5 kicks of each kind.
     #[arg(long)]
     pub short: bool,
-    /// Seed of the random course or of the get-up placements.
+    /// Seed of the random course, the get-up placements or the kick setups.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
 }
@@ -44,6 +46,7 @@ pub fn run(args: BenchArgs) -> CliResult {
     match args.what {
         Measure::Walk => bench_walk(&params, &args),
         Measure::GetUp => bench_get_up(&params, &args),
+        Measure::Kick => bench_kick(&params, &args),
     }
 }
 
@@ -129,3 +132,31 @@ fn bench_get_up(params: &SkillParams, args: &BenchArgs) -> CliResult {
 /// The walk after a get-up starts this long after the placement (the get-up is over by then).
 const WALK_AFTER_S: f64 = GET_UP_LIMIT_S + 0.5;
 const WALK_S: f64 = 4.0;
+/// Distances asked for: beyond `long_kick_from_m` for the long kick, below it for the short one.
+const LONG_KICK_REQUEST_M: f64 = 8.0;
+const SHORT_KICK_REQUEST_M: f64 = 1.5;
+
+fn bench_kick(params: &SkillParams, args: &BenchArgs) -> CliResult {
+    let count = if args.short { 5 } else { 20 };
+    let mut trial = Trial::start()?;
+    for (name, distance, seed) in [
+        ("long", LONG_KICK_REQUEST_M, args.seed),
+        ("short", SHORT_KICK_REQUEST_M, args.seed.wrapping_add(1000)),
+    ] {
+        let (_, s) = kick_bench::kicks(&mut trial, params, count, seed, distance)?;
+        println!(
+            "kick {name} {} kicks: mean distance {:.1} m (min {:.1}), mean |direction error| {:.1}° \
+             (max {:.1}°), {} falls, {} bumped, {} not kicked, mean time to kick {:.1} s",
+            s.kicks,
+            s.mean_distance_m,
+            s.min_distance_m,
+            s.mean_abs_direction_error_deg,
+            s.max_abs_direction_error_deg,
+            s.falls,
+            s.bumps,
+            s.kicks - s.kicked,
+            s.mean_time_to_kick_s
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

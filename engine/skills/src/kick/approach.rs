@@ -1,0 +1,179 @@
+//! Getting to the kicking place from anywhere around the ball, without bumping into it.
+//!
+//! Everything is in the robot frame (x forwards, y left, the torso origin at 0). The kicking
+//! place puts the ball in front of the kicking foot with the robot facing the kick direction.
+//! A straight path that would pass the ball closer than the clearance is replaced by walking
+//! around the ball on the clearance circle, towards the side behind it; close to the place the
+//! robot aligns with small omnidirectional steps.
+
+use super::params::KickApproach;
+use crate::walk::gait::Foot;
+use crate::walk::{walk_to, Velocity, WalkParams};
+use libero_world::geometry::wrap_deg;
+use nalgebra::{Rotation2, Vector2};
+
+/// What the approach wants this cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ApproachStep {
+    /// Walk with this command.
+    Walk(Velocity),
+    /// Near the kicking place but not within the kick's tolerances: this small-step command
+    /// brings it closer.
+    Align(Velocity),
+    /// At the kicking place (within the tolerances).
+    Ready,
+}
+
+/// The kicking place for `foot`: torso position in the robot frame and heading [deg].
+pub fn kicking_place(
+    ball: [f64; 2],
+    direction_deg: f64,
+    foot: Foot,
+    a: &KickApproach,
+) -> ([f64; 2], f64) {
+    let d = Vector2::new(
+        direction_deg.to_radians().cos(),
+        direction_deg.to_radians().sin(),
+    );
+    let left = Vector2::new(-d.y, d.x);
+    let p = Vector2::from(ball) - d * a.ball_ahead_m - left * (foot.sign() * a.ball_beside_m);
+    ([p.x, p.y], direction_deg)
+}
+
+/// The foot that needs the shorter way: with the robot to the right of the line through the
+/// ball along the kick direction, the ball is best kicked with the left foot, and vice versa.
+pub fn natural_foot(ball: [f64; 2], direction_deg: f64) -> Foot {
+    let d = Vector2::new(
+        direction_deg.to_radians().cos(),
+        direction_deg.to_radians().sin(),
+    );
+    let left = Vector2::new(-d.y, d.x);
+    let robot_from_ball = -Vector2::from(ball);
+    if robot_from_ball.dot(&left) < 0.0 {
+        Foot::Left
+    } else {
+        Foot::Right
+    }
+}
+
+/// Distance from `c` to the segment from `a` to `b`.
+fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>) -> f64 {
+    let ab = b - a;
+    let s = if ab.norm_squared() > 0.0 {
+        ((c - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * s - c).norm()
+}
+
+/// Angle of the arc step taken around the ball per waypoint [deg].
+const ARC_STEP_DEG: f64 = 40.0;
+
+/// This cycle's approach command.
+pub fn step(
+    ball: [f64; 2],
+    direction_deg: f64,
+    foot: Foot,
+    a: &KickApproach,
+    w: &WalkParams,
+) -> ApproachStep {
+    let (place, heading) = kicking_place(ball, direction_deg, foot, a);
+    let b = Vector2::from(ball);
+    let p = Vector2::from(place);
+    let robot = Vector2::zeros();
+    let heading_error = wrap_deg(heading);
+    let distance = p.norm();
+    if distance <= a.align_within_m && segment_distance(robot, p, b) >= a.clearance_m * 0.8 {
+        // Errors along and across the kick direction decide readiness: along matters for the
+        // contact timing, across for where the foot meets the ball.
+        let d = Vector2::new(heading.to_radians().cos(), heading.to_radians().sin());
+        let along = p.dot(&d);
+        let across = p.perp(&d);
+        if along.abs() <= a.ready_along_m
+            && across.abs() <= a.ready_across_m
+            && heading_error.abs() <= a.ready_deg
+        {
+            return ApproachStep::Ready;
+        }
+        let v = p * a.align_gain_per_s;
+        let scale = (v.norm() / a.align_speed_m_s).max(1.0);
+        return ApproachStep::Align(Velocity {
+            forward_m_s: v.x / scale,
+            sideways_m_s: v.y / scale,
+            turn_deg_s: (a.align_turn_gain_per_s * heading_error)
+                .clamp(-w.max_turn_deg_s, w.max_turn_deg_s),
+        });
+    }
+    let target = if segment_distance(robot, p, b) >= a.clearance_m {
+        p
+    } else {
+        // Around the ball: the next point on the clearance circle, turning from where the robot
+        // is towards the kicking place the shorter way.
+        let from = robot - b;
+        let to = p - b;
+        let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
+        let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
+        let radius = a.clearance_m * 1.3;
+        let dir =
+            Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
+        b + dir * radius
+    };
+    let v = walk_to::velocity_towards([target.x, target.y], heading_error, w).unwrap_or_default();
+    ApproachStep::Walk(v.capped(Some(a.approach_speed_m_s)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params() -> (KickApproach, WalkParams) {
+        let t1 = libero_model::RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        (p.kick.approach, p.walk)
+    }
+
+    #[test]
+    fn the_kicking_place_puts_the_ball_ahead_of_the_kicking_foot() {
+        let (a, _) = params();
+        let (place, heading) = kicking_place([1.0, 0.0], 90.0, Foot::Right, &a);
+        assert_eq!(heading, 90.0);
+        // Kicking towards +y with the right foot: the robot faces +y with the ball to its
+        // right (+x), so it stands below the ball and to its −x.
+        assert!(
+            (place[0] - (1.0 - a.ball_beside_m)).abs() < 1e-9,
+            "{place:?}"
+        );
+        assert!((place[1] + a.ball_ahead_m).abs() < 1e-9, "{place:?}");
+    }
+
+    #[test]
+    fn from_in_front_of_the_ball_the_path_goes_around_it() {
+        let (a, w) = params();
+        // Ball 0.6 m ahead, to be kicked back towards the robot: the place is behind the ball.
+        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, &a, &w) else {
+            panic!("not ready from the wrong side");
+        };
+        // Not straight at the ball: sideways first.
+        assert!(
+            v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0,
+            "{v:?}"
+        );
+        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, &a, &w) else {
+            panic!("not ready 1 m away");
+        };
+        assert!(v.forward_m_s > 0.0, "{v:?}");
+    }
+
+    #[test]
+    fn at_the_place_it_is_ready() {
+        let (a, w) = params();
+        let ball = [a.ball_ahead_m, a.ball_beside_m];
+        assert_eq!(step(ball, 0.0, Foot::Left, &a, &w), ApproachStep::Ready);
+        assert!(matches!(
+            step(ball, 20.0, Foot::Left, &a, &w),
+            ApproachStep::Align(v) if v.turn_deg_s > 0.0
+        ));
+        assert_eq!(natural_foot(ball, 0.0), Foot::Left);
+    }
+}

@@ -1,0 +1,377 @@
+//! Kicks (thesis 6.3.2): walk to the kicking place behind the ball from wherever the robot is,
+//! then kick with a motion whose foot targets are placed relative to the ball by the leg IK.
+//!
+//! [`approach`] plans the walk there (around the ball when coming from its front), [`motion`]
+//! the kick itself: weight onto the support leg, wind-up, a fast swing through the ball with stiff
+//! kicking-leg gains, and back to standing. The long kick swings hard enough for 6 m or more,
+//! the short kick gently; [`params::KickParams::long_kick_from_m`] chooses by requested distance.
+
+pub mod approach;
+pub mod motion;
+pub mod params;
+
+use crate::walk::balance::Attitude;
+use crate::walk::gait::{Foot, SolePlacement};
+use crate::walk::{Velocity, WalkParams};
+use approach::ApproachStep;
+use libero_model::kinematics::{Kinematics, KinematicsError, LegIk, Side};
+use libero_model::RobotModel;
+use libero_world::World;
+use motion::{MotionPlan, Phase};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+pub use params::{KickApproach, KickMotion, KickParams};
+
+/// Where a kick request stands; callers (behavior nodes) succeed on `Done`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KickState {
+    /// No kick requested.
+    Idle,
+    /// Walking to the kicking place.
+    Approaching,
+    /// The kick motion runs.
+    Kicking,
+    /// The kick motion has finished. Stays so while the same kick is requested; request
+    /// something else for one cycle to kick again.
+    Done,
+}
+
+/// The kick request of one cycle, robot frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KickRequest {
+    pub ball: [f64; 2],
+    pub direction_deg: f64,
+    pub distance_m: f64,
+}
+
+/// What the kick wants from the rest of the skill layer this cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum KickOutput {
+    /// Walk with this command (`None`: come to a stop).
+    Walk(Option<Velocity>),
+    /// The kick motion owns the legs: [`Kick::write_pose`] fills them in.
+    Motion,
+    /// Stand.
+    Stand,
+}
+
+/// A kick motion in progress.
+#[derive(Debug, Clone)]
+struct Running {
+    plan: MotionPlan,
+    started_s: f64,
+    long: bool,
+}
+
+/// The kick skill of one robot.
+pub struct Kick {
+    kin: Kinematics,
+    legs: [LegIk; 2],
+    state: KickState,
+    /// The foot chosen when alignment began (kept so the robot does not dither between sides).
+    foot: Option<Foot>,
+    running: Option<Running>,
+    /// Since when the robot has stood still near the kicking place (`None`: stepping).
+    still_since: Option<f64>,
+    /// A correction walk near the kicking place runs until then.
+    correcting_until: Option<f64>,
+    angles: Vec<f64>,
+}
+
+impl Kick {
+    pub fn new(model: &RobotModel) -> Result<Self, KinematicsError> {
+        let kin = Kinematics::new(model);
+        let legs = [
+            LegIk::new(model, &kin, Side::Left)?,
+            LegIk::new(model, &kin, Side::Right)?,
+        ];
+        Ok(Self {
+            kin,
+            legs,
+            state: KickState::Idle,
+            foot: None,
+            running: None,
+            still_since: None,
+            correcting_until: None,
+            angles: vec![0.0; model.joints.len()],
+        })
+    }
+
+    pub fn state(&self) -> KickState {
+        self.state
+    }
+
+    /// The foot of the kick in progress or being aligned for.
+    pub fn foot(&self) -> Option<Foot> {
+        self.foot
+    }
+
+    /// True while the long kick's swing is running (its gains apply).
+    fn swinging(&self, now: f64) -> bool {
+        self.running.as_ref().is_some_and(|r| {
+            matches!(
+                r.plan.at(now - r.started_s).phase,
+                Phase::Windup | Phase::Swing | Phase::Retract
+            )
+        })
+    }
+
+    /// Forget the kick (another intent, a fall).
+    pub fn reset(&mut self) {
+        self.state = KickState::Idle;
+        self.foot = None;
+        self.running = None;
+        self.still_since = None;
+        self.correcting_until = None;
+    }
+
+    /// One cycle of a kick request. `walk_stepping`: the walk is still making steps (the kick
+    /// starts only once the robot stands still at the kicking place).
+    pub fn update(
+        &mut self,
+        request: KickRequest,
+        now: f64,
+        walk_stepping: bool,
+        k: &KickParams,
+        w: &WalkParams,
+    ) -> KickOutput {
+        match self.state {
+            KickState::Done => return KickOutput::Stand,
+            KickState::Kicking => {
+                let finished = self
+                    .running
+                    .as_ref()
+                    .is_none_or(|r| now - r.started_s >= r.plan.duration_s());
+                if finished {
+                    self.running = None;
+                    self.state = KickState::Done;
+                    return KickOutput::Stand;
+                }
+                return KickOutput::Motion;
+            }
+            KickState::Idle | KickState::Approaching => {}
+        }
+        self.state = KickState::Approaching;
+        let a = &k.approach;
+        let near = request.ball[0].hypot(request.ball[1]) < a.align_within_m + a.ball_ahead_m;
+        let foot = match self.foot {
+            Some(f) if near => f,
+            _ => approach::natural_foot(request.ball, request.direction_deg),
+        };
+        self.foot = near.then_some(foot);
+        // Near the place the estimates taken while walking are too rough for the kick's
+        // tolerances (the walk sways the camera): stop, look while standing, then either kick
+        // or walk a short correction and look again.
+        let step = approach::step(request.ball, request.direction_deg, foot, a, w);
+        let correction = match step {
+            ApproachStep::Walk(v) => {
+                self.correcting_until = None;
+                self.still_since = None;
+                return KickOutput::Walk(Some(v));
+            }
+            ApproachStep::Align(v) => v,
+            ApproachStep::Ready => Velocity::default(),
+        };
+        if let Some(until) = self.correcting_until {
+            if now < until && step != ApproachStep::Ready {
+                return KickOutput::Walk(Some(correction));
+            }
+            self.correcting_until = None;
+        }
+        if walk_stepping {
+            self.still_since = None;
+            return KickOutput::Walk(None);
+        }
+        let still = *self.still_since.get_or_insert(now);
+        if now - still < a.look_s {
+            return KickOutput::Walk(None);
+        }
+        match step {
+            ApproachStep::Walk(_) | ApproachStep::Align(_) => {
+                log::debug!(
+                    "kick: not ready: ball at ({:.3}, {:.3}), direction {:.1}°; correcting with {correction:?}",
+                    request.ball[0],
+                    request.ball[1],
+                    request.direction_deg
+                );
+                self.correcting_until = Some(now + a.correction_s);
+                self.still_since = None;
+                KickOutput::Walk(Some(correction))
+            }
+            ApproachStep::Ready => {
+                let long = request.distance_m >= k.long_kick_from_m;
+                let m = if long { &k.long } else { &k.short };
+                // The residual direction error is made up by turning the kicking foot.
+                let plan = MotionPlan::new(
+                    foot,
+                    request.ball,
+                    request.direction_deg,
+                    k.ball_radius_m,
+                    k.toe_ahead_of_ankle_m,
+                    m,
+                    w,
+                );
+                log::debug!(
+                    "kick: {} kick with the {foot:?} foot, ball at ({:.3}, {:.3}), direction {:.1}°",
+                    if long { "long" } else { "short" },
+                    request.ball[0],
+                    request.ball[1],
+                    request.direction_deg
+                );
+                self.foot = Some(foot);
+                self.running = Some(Running {
+                    plan,
+                    started_s: now,
+                    long,
+                });
+                self.state = KickState::Kicking;
+                KickOutput::Motion
+            }
+        }
+    }
+
+    /// The kick motion's leg angles for this cycle into `pose` [deg per joint].
+    pub fn write_pose(&mut self, world: &World, k: &KickParams, pose: &mut [f64]) {
+        let Some(r) = &self.running else { return };
+        let now = world.time;
+        let frame = r.plan.at(now - r.started_s);
+        let level_to_torso =
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -frame.lean_deg.to_radians());
+        self.angles.copy_from_slice(pose);
+        for (leg, sole) in self.legs.iter().zip(&frame.soles) {
+            let target =
+                Isometry3::from_parts(Translation3::identity(), level_to_torso) * sole_pose(sole);
+            // The IK never writes NaN and gives the closest pose when out of reach; an error
+            // only means a non-finite target.
+            if let Err(e) = leg.solve(&self.kin, &target, &mut self.angles) {
+                log::warn!("kick: leg IK failed: {e}");
+            }
+        }
+        // Gyro damping on the stance ankle, as in the walk: one foot carries the body and its
+        // rolling and pitching must be stopped early.
+        let m = if r.long { &k.long } else { &k.short };
+        let attitude = Attitude::from_body(&world.body);
+        let limit = |v: f64| v.clamp(-m.stance_max_correction_deg, m.stance_max_correction_deg);
+        let stance = self.legs[r.plan.foot.other().index()].joints();
+        // Booster and NAO legs both end in ankle pitch, ankle roll.
+        self.angles[stance[4]] += limit(m.stance_pitch_per_gyro * attitude.pitch_rate_deg_s);
+        self.angles[stance[5]] += limit(m.stance_roll_per_gyro * attitude.roll_rate_deg_s);
+        pose.copy_from_slice(&self.angles);
+    }
+
+    /// Gains of the kicking leg during the swing: `(joint name, kp, kd)`.
+    pub fn swing_gains<'a>(
+        &'a self,
+        now: f64,
+        k: &'a KickParams,
+    ) -> impl Iterator<Item = (String, f64, f64)> + 'a {
+        let active = self.swinging(now);
+        let (foot, long) = self
+            .running
+            .as_ref()
+            .map_or((Foot::Left, false), |r| (r.plan.foot, r.long));
+        let side = match foot {
+            Foot::Left => "left",
+            Foot::Right => "right",
+        };
+        let m = if long { &k.long } else { &k.short };
+        m.swing_gains
+            .iter()
+            .filter(move |_| active)
+            .map(move |(joint, g)| (format!("{side}_{joint}"), g.kp, g.kd))
+    }
+}
+
+fn sole_pose(s: &SolePlacement) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::new(s.x, s.y, s.z),
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), s.yaw_deg.to_radians()),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_kick_looks_kicks_and_reports_done() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let mut kick = Kick::new(&t1).unwrap();
+        assert_eq!(kick.state(), KickState::Idle);
+        let far = KickRequest {
+            ball: [2.0, 0.0],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        match kick.update(far, 0.0, false, k, w) {
+            KickOutput::Walk(Some(v)) => assert!(v.forward_m_s > 0.0, "{v:?}"),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(kick.state(), KickState::Approaching);
+        let at_place = KickRequest {
+            ball: [k.approach.ball_ahead_m, k.approach.ball_beside_m],
+            ..far
+        };
+        // Still stepping: stop first.
+        assert_eq!(
+            kick.update(at_place, 1.0, true, k, w),
+            KickOutput::Walk(None)
+        );
+        // Standing: look for `look_s`, then kick with the left foot (the ball is on the left).
+        let mut t = 1.0;
+        while kick.update(at_place, t, false, k, w) != KickOutput::Motion {
+            assert!(t < 1.0 + k.approach.look_s + 0.1, "no kick at {t}");
+            t += 0.02;
+        }
+        assert!(t >= 1.0 + k.approach.look_s);
+        assert_eq!(kick.state(), KickState::Kicking);
+        assert_eq!(kick.foot(), Some(Foot::Left));
+        // Stiff kicking leg during the swing only.
+        let d = &k.long;
+        let swing_at = t + d.shift_s + d.windup_s + d.swing_s / 2.0;
+        assert!(kick.swing_gains(t, k).next().is_none());
+        let gains: Vec<_> = kick.swing_gains(swing_at, k).collect();
+        assert!(
+            gains.iter().any(|(j, ..)| j == "left_hip_pitch"),
+            "{gains:?}"
+        );
+        let end = t + d.shift_s + d.windup_s + d.swing_s + d.retract_s + d.recover_s;
+        assert_eq!(
+            kick.update(at_place, end - 0.05, false, k, w),
+            KickOutput::Motion
+        );
+        assert_eq!(
+            kick.update(at_place, end + 0.01, false, k, w),
+            KickOutput::Stand
+        );
+        assert_eq!(kick.state(), KickState::Done);
+        // Done stays done while the same kick is asked for.
+        assert_eq!(
+            kick.update(at_place, end + 1.0, false, k, w),
+            KickOutput::Stand
+        );
+        kick.reset();
+        assert_eq!(kick.state(), KickState::Idle);
+    }
+
+    #[test]
+    fn short_requests_get_the_short_kick() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let mut kick = Kick::new(&t1).unwrap();
+        let req = KickRequest {
+            ball: [k.approach.ball_ahead_m, -k.approach.ball_beside_m],
+            direction_deg: 0.0,
+            distance_m: k.long_kick_from_m / 2.0,
+        };
+        let mut t = 0.0;
+        while kick.update(req, t, false, k, w) != KickOutput::Motion {
+            t += 0.02;
+            assert!(t < 5.0);
+        }
+        assert_eq!(kick.foot(), Some(Foot::Right));
+        assert!(kick.running.as_ref().is_some_and(|r| !r.long));
+    }
+}

@@ -1,0 +1,194 @@
+//! The kick's tunable numbers, as they appear in the `kick:` section of the skill parameter file.
+//! Key names differ from the walk's (the optimizer finds walk keys by name in the file).
+
+use crate::walk::params::{in_range, Check};
+use libero_model::Gains;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Everything about kicking: where to stand, how to get there, and the two kick motions.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+pub struct KickParams {
+    /// Requests of at least this distance get the long kick, shorter ones the short kick [m].
+    pub long_kick_from_m: f64,
+    /// Ball radius [m].
+    pub ball_radius_m: f64,
+    /// Toe tip ahead of the ankle (the IK's sole point) [m].
+    pub toe_ahead_of_ankle_m: f64,
+    pub approach: KickApproach,
+    pub short: KickMotion,
+    pub long: KickMotion,
+}
+
+/// Getting to the kicking place behind the ball.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+pub struct KickApproach {
+    /// At the kicking place the ball centre is this far ahead of the torso origin [m] ...
+    pub ball_ahead_m: f64,
+    /// ... and this far to the side of the kicking foot [m].
+    pub ball_beside_m: f64,
+    /// Paths to the kicking place keep the torso at least this far from the ball centre [m];
+    /// otherwise the robot walks around the ball on a circle of this radius.
+    pub clearance_m: f64,
+    /// Speed cap while walking to the kicking place [m/s].
+    pub approach_speed_m_s: f64,
+    /// Closer than this to the kicking place the robot aligns with small steps [m].
+    pub align_within_m: f64,
+    /// Alignment: speed per metre of position error [1/s], turn per degree of heading error
+    /// [1/s], and speed cap [m/s].
+    pub align_gain_per_s: f64,
+    pub align_turn_gain_per_s: f64,
+    pub align_speed_m_s: f64,
+    /// The kick starts when the robot has stopped within these errors of the kicking place:
+    /// along the kick direction [m], across it [m], heading [deg].
+    pub ready_along_m: f64,
+    pub ready_across_m: f64,
+    pub ready_deg: f64,
+    /// Near the place: how long to stand still and look before judging the errors [s], and
+    /// how long each correction walk lasts [s].
+    pub look_s: f64,
+    pub correction_s: f64,
+    /// Head pitch while approaching, so the ball stays in view near the feet [deg].
+    pub look_down_deg: f64,
+}
+
+/// One kick motion, in phases: shift the weight onto the support leg, lift and wind up the
+/// kicking foot, swing it through the ball, bring it back, and shift the weight back.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+pub struct KickMotion {
+    /// Phase durations [s].
+    pub shift_s: f64,
+    pub windup_s: f64,
+    pub swing_s: f64,
+    pub retract_s: f64,
+    pub recover_s: f64,
+    /// Torso shift over the support foot [m].
+    pub weight_shift_m: f64,
+    /// How much further than `weight_shift_m` the torso ends up over the support foot, the
+    /// stance leg and foot giving way under the body's weight (measured) [m].
+    pub support_sag_m: f64,
+    /// Torso lean while kicking [deg], + forwards.
+    pub kick_lean_deg: f64,
+    /// Height of the kicking sole during the wind-up [m].
+    pub windup_lift_m: f64,
+    /// How far behind the ball's back the toe is pulled during the wind-up [m].
+    pub windup_back_m: f64,
+    /// The swing aims the toe this far past the ball's back [m].
+    pub follow_through_m: f64,
+    /// Height of the kicking sole when it meets the ball [m].
+    pub strike_height_m: f64,
+    /// Largest lateral shift of the kicking foot towards the ball from its neutral place [m].
+    pub max_reach_across_m: f64,
+    /// Largest direction correction made by turning the kicking foot [deg].
+    pub max_foot_turn_deg: f64,
+    /// Gyro damping on the stance ankle: pitch and roll correction per deg/s of the torso's
+    /// pitch and roll rate [deg per deg/s], at most `stance_max_correction_deg`.
+    pub stance_pitch_per_gyro: f64,
+    pub stance_roll_per_gyro: f64,
+    pub stance_max_correction_deg: f64,
+    /// Motor gains of the kicking leg's joints during the swing (`hip_pitch`, …); unlisted
+    /// joints keep the walk's leg gains.
+    pub swing_gains: BTreeMap<String, Gains>,
+}
+
+/// kd beyond which the server's explicit Euler integration goes unstable on the T1's legs
+/// (rcssservermj.md §3.1; hip pitch ≈ 31).
+const MAX_KD: f64 = 30.0;
+const MAX_KP: f64 = 3000.0;
+
+impl KickParams {
+    pub fn validate(&self) -> Check {
+        let k = "kick";
+        in_range(
+            &format!("{k}.long_kick_from_m"),
+            self.long_kick_from_m,
+            0.0,
+            50.0,
+        )?;
+        in_range(&format!("{k}.ball_radius_m"), self.ball_radius_m, 0.01, 0.3)?;
+        in_range(
+            &format!("{k}.toe_ahead_of_ankle_m"),
+            self.toe_ahead_of_ankle_m,
+            0.0,
+            0.3,
+        )?;
+        let a = &self.approach;
+        let p = |name: &str| format!("{k}.approach.{name}");
+        in_range(&p("ball_ahead_m"), a.ball_ahead_m, 0.05, 1.0)?;
+        in_range(&p("ball_beside_m"), a.ball_beside_m, 0.0, 0.3)?;
+        in_range(&p("clearance_m"), a.clearance_m, 0.1, 2.0)?;
+        in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
+        in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;
+        in_range(&p("align_gain_per_s"), a.align_gain_per_s, 0.01, 10.0)?;
+        in_range(
+            &p("align_turn_gain_per_s"),
+            a.align_turn_gain_per_s,
+            0.01,
+            10.0,
+        )?;
+        in_range(&p("align_speed_m_s"), a.align_speed_m_s, 0.005, 1.0)?;
+        in_range(&p("ready_along_m"), a.ready_along_m, 0.001, 0.5)?;
+        in_range(&p("ready_across_m"), a.ready_across_m, 0.001, 0.5)?;
+        in_range(&p("ready_deg"), a.ready_deg, 0.1, 45.0)?;
+        in_range(&p("look_s"), a.look_s, 0.0, 5.0)?;
+        in_range(&p("correction_s"), a.correction_s, 0.05, 5.0)?;
+        in_range(&p("look_down_deg"), a.look_down_deg, -90.0, 90.0)?;
+        // A path ending at the kicking place must be able to keep the clearance.
+        let place_distance = a.ball_ahead_m.hypot(a.ball_beside_m);
+        if a.clearance_m >= place_distance {
+            return Err(format!(
+                "{k}.approach.clearance_m = {} must be less than the kicking place's distance from the ball ({place_distance:.3} m)",
+                a.clearance_m
+            ));
+        }
+        self.short.validate(&format!("{k}.short"))?;
+        self.long.validate(&format!("{k}.long"))
+    }
+}
+
+impl KickMotion {
+    fn validate(&self, m: &str) -> Check {
+        let p = |name: &str| format!("{m}.{name}");
+        for (name, v) in [
+            ("shift_s", self.shift_s),
+            ("windup_s", self.windup_s),
+            ("retract_s", self.retract_s),
+            ("recover_s", self.recover_s),
+        ] {
+            in_range(&p(name), v, 0.0, 5.0)?;
+        }
+        in_range(&p("swing_s"), self.swing_s, 0.02, 2.0)?;
+        in_range(&p("weight_shift_m"), self.weight_shift_m, 0.0, 0.2)?;
+        in_range(&p("support_sag_m"), self.support_sag_m, 0.0, 0.2)?;
+        in_range(&p("kick_lean_deg"), self.kick_lean_deg, -20.0, 30.0)?;
+        in_range(&p("windup_lift_m"), self.windup_lift_m, 0.0, 0.3)?;
+        in_range(&p("windup_back_m"), self.windup_back_m, 0.0, 0.5)?;
+        in_range(&p("follow_through_m"), self.follow_through_m, 0.0, 0.5)?;
+        in_range(&p("strike_height_m"), self.strike_height_m, 0.0, 0.3)?;
+        in_range(&p("max_reach_across_m"), self.max_reach_across_m, 0.0, 0.2)?;
+        in_range(&p("max_foot_turn_deg"), self.max_foot_turn_deg, 0.0, 45.0)?;
+        in_range(
+            &p("stance_pitch_per_gyro"),
+            self.stance_pitch_per_gyro,
+            -5.0,
+            5.0,
+        )?;
+        in_range(
+            &p("stance_roll_per_gyro"),
+            self.stance_roll_per_gyro,
+            -5.0,
+            5.0,
+        )?;
+        in_range(
+            &p("stance_max_correction_deg"),
+            self.stance_max_correction_deg,
+            0.0,
+            30.0,
+        )?;
+        for (joint, g) in &self.swing_gains {
+            in_range(&p(&format!("swing_gains.{joint}.kp")), g.kp, 0.0, MAX_KP)?;
+            in_range(&p(&format!("swing_gains.{joint}.kd")), g.kd, 0.0, MAX_KD)?;
+        }
+        Ok(())
+    }
+}

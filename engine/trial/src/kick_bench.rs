@@ -1,0 +1,329 @@
+//! Kick measurements behind `libero bench kick` and the live kick test.
+//!
+//! Each kick is one episode: the monitor places the robot and the ball, the robot looks for the
+//! ball, then a script asks for the kick every cycle (ball and direction in the robot frame,
+//! from the agent's own estimates) until the skill reports it done and the ball has stopped.
+//! Distance and direction come from the server's ground truth of the ball (monitor scene graph).
+
+use crate::cmaes::Rng;
+use crate::episode::{Episode, Trial, TrialError, FALLEN_TORSO_Z_M};
+use libero_skills::{BodyIntent, HeadIntent, Intent, KickState, SkillParams};
+use libero_world::geometry::wrap_deg;
+use libero_world::World;
+use std::sync::{Arc, Mutex};
+
+/// Where one kick starts and what it asks for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KickSetup {
+    /// Robot torso x, y [m] and heading [deg], world frame.
+    pub robot: [f64; 3],
+    /// Ball x, y [m], world frame.
+    pub ball: [f64; 2],
+    /// Kick direction [deg], world frame.
+    pub direction_deg: f64,
+    /// Requested distance [m] (chooses the short or the long kick).
+    pub distance_m: f64,
+}
+
+/// What happened.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct KickOutcome {
+    /// The skill reached its kick motion.
+    pub kicked: bool,
+    /// Seconds from the kick request until the kick motion started.
+    pub time_to_kick_s: Option<f64>,
+    /// Ball travel from where it lay to where it stopped [m].
+    pub distance_m: f64,
+    /// Direction of that travel minus the requested direction [deg].
+    pub direction_error_deg: f64,
+    /// The ball moved more than a few centimetres before the kick motion began.
+    pub bumped: bool,
+    pub fell: bool,
+}
+
+/// Seconds standing after placement, head panning, so the ball is seen and localization settles.
+const LOOK_S: f64 = 1.5;
+/// A ball that has not moved by more than the monitor's 5 mm resolution for this long is at rest.
+const BALL_STILL_S: f64 = 1.0;
+/// Ball movement before the kick that counts as bumping it [m].
+const BUMP_M: f64 = 0.05;
+/// Ball placement height (its radius: resting on the ground) [m].
+const BALL_Z_M: f64 = 0.11;
+/// Turning rate while searching for a ball not yet seen [deg/s].
+const SEARCH_TURN_DEG_S: f64 = 40.0;
+
+/// `count` kicks from all round the ball, seeded: ball spots, robot places and headings, and
+/// kick directions vary; each kick stays well inside the field.
+pub fn setups(count: usize, seed: u64, distance_m: f64) -> Vec<KickSetup> {
+    let mut rng = Rng::new(seed);
+    (0..count)
+        .map(|_| {
+            let direction_deg = 360.0 * rng.uniform() - 180.0;
+            let d = direction_deg.to_radians();
+            // Start 4 m back from the centre along the kick, so 12 m kicks stay on the field.
+            let ball = [
+                -4.0 * d.cos() + 6.0 * rng.uniform() - 3.0,
+                -4.0 * d.sin() + 4.0 * rng.uniform() - 2.0,
+            ];
+            let bearing = std::f64::consts::TAU * rng.uniform();
+            let range = 1.0 + 1.5 * rng.uniform();
+            let robot = [
+                ball[0] + range * bearing.cos(),
+                ball[1] + range * bearing.sin(),
+                360.0 * rng.uniform() - 180.0,
+            ];
+            KickSetup {
+                robot,
+                ball,
+                direction_deg,
+                distance_m,
+            }
+        })
+        .collect()
+}
+
+/// A sighting of the ball at most this old gives its robot-frame position directly [s].
+const FRESH_SIGHTING_S: f64 = 0.1;
+
+/// Script progress, shared with the measuring side.
+#[derive(Debug, Clone, Copy, Default)]
+struct Progress {
+    ball_start: Option<[f64; 3]>,
+    kick_started_at: Option<f64>,
+    ball_at_kick: Option<[f64; 3]>,
+    done_at: Option<f64>,
+    ball_end: Option<[f64; 3]>,
+    fell: bool,
+}
+
+/// One kick, giving up `limit_s` after the request.
+pub fn kick_once(
+    trial: &mut Trial,
+    params: &SkillParams,
+    setup: KickSetup,
+    limit_s: f64,
+) -> Result<KickOutcome, TrialError> {
+    let monitor = trial.monitor();
+    let status = trial.skill_status();
+    let progress = Arc::new(Mutex::new(Progress::default()));
+    let shared = Arc::clone(&progress);
+    let place_ball = format!(
+        "(ball (pos {} {} {BALL_Z_M})(vel 0 0 0))",
+        setup.ball[0], setup.ball[1]
+    );
+    let mut placed_at: Option<f64> = None;
+    // Server time of the last placement command: sightings before it show the old spot.
+    let mut placed_world_time = f64::INFINITY;
+    let mut last_ball: Option<([f64; 3], f64)> = None;
+    let script = move |world: &World, t: f64| -> Option<Intent> {
+        let truth_ball = monitor.lock().ok().and_then(|m| m.snapshot().ball);
+        let mut p = shared.lock().ok()?;
+        let look = Intent {
+            head: HeadIntent::LookAround {
+                amplitude_deg: None,
+                period_s: None,
+            },
+            ..Default::default()
+        };
+        // Place the ball (again, if the server ignored the first command).
+        let at_place = truth_ball.is_some_and(|b| {
+            (b[0] - setup.ball[0]).hypot(b[1] - setup.ball[1]) < 0.05 && b[2] < BALL_Z_M + 0.02
+        });
+        if placed_at.is_none_or(|at| !at_place && p.ball_start.is_none() && t - at > 0.5) {
+            if let Ok(mut m) = monitor.lock() {
+                if let Err(e) = m.send(&place_ball) {
+                    log::error!("kick bench: cannot place the ball: {e}");
+                    return None;
+                }
+            }
+            placed_at = Some(t);
+            placed_world_time = world.time;
+            return Some(look);
+        }
+        if t < LOOK_S || (p.ball_start.is_none() && !at_place) {
+            return (t < LOOK_S + 5.0).then_some(look);
+        }
+        if p.ball_start.is_none() {
+            p.ball_start = truth_ball;
+        }
+        log::trace!(
+            "t {t:6.2} kick {:?} torso {:?} roll {:.1} pitch {:.1} ball {:?} ball est {:?} me {:?} {:.1} legs {:?}",
+            status.lock().map(|s| s.kick).ok(),
+            world.truth.torso_position,
+            world.me.roll_deg,
+            world.me.pitch_deg,
+            truth_ball,
+            world.ball.position,
+            world.me.position,
+            world.me.yaw_deg,
+            world.body.joint_angles[11..].iter().map(|a| a.round()).collect::<Vec<_>>()
+        );
+        // The swing's jolt can fool the fall detector for a moment: a fall is the torso down.
+        if world
+            .truth
+            .torso_position
+            .is_some_and(|pos| pos[2] < FALLEN_TORSO_Z_M)
+        {
+            p.fell = true;
+            return None;
+        }
+        let since_request = t - LOOK_S;
+        let kick = status.lock().map(|s| s.kick).unwrap_or(KickState::Idle);
+        if kick == KickState::Kicking && p.kick_started_at.is_none() {
+            p.kick_started_at = Some(since_request);
+            p.ball_at_kick = truth_ball;
+        }
+        if kick == KickState::Done && p.done_at.is_none() {
+            p.done_at = Some(t);
+        }
+        if let Some(done) = p.done_at {
+            // Wait for the ball to come to rest.
+            if let Some(b) = truth_ball {
+                match last_ball {
+                    Some((before, since)) if (b[0] - before[0]).hypot(b[1] - before[1]) < 0.005 => {
+                        if t - since >= BALL_STILL_S {
+                            p.ball_end = Some(b);
+                            return None;
+                        }
+                    }
+                    _ => last_ball = Some((b, t)),
+                }
+            }
+            if t - done > 15.0 {
+                p.ball_end = truth_ball;
+                return None;
+            }
+        } else if since_request > limit_s {
+            return None;
+        }
+        // Seen since it was placed (allowing for the command's two-cycle delay)?
+        let seen = world
+            .ball
+            .last_seen_time
+            .is_some_and(|at| at > placed_world_time + 0.1);
+        if !seen {
+            // Not seen yet: turn on the spot, head panning, until it is.
+            return Some(Intent {
+                body: BodyIntent::Walk {
+                    forward_m_s: 0.0,
+                    sideways_m_s: 0.0,
+                    turn_deg_s: SEARCH_TURN_DEG_S,
+                },
+                ..look
+            });
+        }
+        Some(Intent {
+            body: BodyIntent::Kick {
+                ball: world.ball_relative(FRESH_SIGHTING_S),
+                direction_deg: wrap_deg(setup.direction_deg - world.me.yaw_deg),
+                distance_m: setup.distance_m,
+            },
+            ..Default::default()
+        })
+    };
+    let rec = trial.run(
+        params,
+        Episode {
+            start: setup.robot,
+            lying: None,
+            settle_s: 0.5,
+            script,
+        },
+    )?;
+    let p = *progress.lock().map_err(|_| TrialError::Empty)?;
+    let mut outcome = KickOutcome {
+        kicked: p.kick_started_at.is_some(),
+        time_to_kick_s: p.kick_started_at,
+        fell: p.fell || rec.samples.iter().any(|s| s.position[2] < FALLEN_TORSO_Z_M),
+        ..Default::default()
+    };
+    if let (Some(start), Some(at_kick)) = (p.ball_start, p.ball_at_kick) {
+        outcome.bumped = (at_kick[0] - start[0]).hypot(at_kick[1] - start[1]) > BUMP_M;
+    }
+    if let (Some(start), Some(end)) = (p.ball_start, p.ball_end) {
+        let (dx, dy) = (end[0] - start[0], end[1] - start[1]);
+        outcome.distance_m = dx.hypot(dy);
+        outcome.direction_error_deg = wrap_deg(dy.atan2(dx).to_degrees() - setup.direction_deg);
+    }
+    Ok(outcome)
+}
+
+/// Figures over several kicks.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct KickSummary {
+    pub kicks: usize,
+    /// Kicks where the kick motion ran.
+    pub kicked: usize,
+    pub mean_distance_m: f64,
+    pub min_distance_m: f64,
+    pub mean_abs_direction_error_deg: f64,
+    pub max_abs_direction_error_deg: f64,
+    pub falls: usize,
+    pub bumps: usize,
+    pub mean_time_to_kick_s: f64,
+}
+
+impl KickSummary {
+    /// Means over every setup: a kick that never happened counts as 0 m and 180° off.
+    pub fn of(outcomes: &[KickOutcome]) -> Self {
+        let n = outcomes.len().max(1) as f64;
+        let error = |o: &KickOutcome| {
+            if o.kicked {
+                o.direction_error_deg.abs()
+            } else {
+                180.0
+            }
+        };
+        let times: Vec<f64> = outcomes.iter().filter_map(|o| o.time_to_kick_s).collect();
+        Self {
+            kicks: outcomes.len(),
+            kicked: outcomes.iter().filter(|o| o.kicked).count(),
+            mean_distance_m: outcomes.iter().map(|o| o.distance_m).sum::<f64>() / n,
+            min_distance_m: outcomes
+                .iter()
+                .map(|o| o.distance_m)
+                .fold(f64::INFINITY, f64::min),
+            mean_abs_direction_error_deg: outcomes.iter().map(error).sum::<f64>() / n,
+            max_abs_direction_error_deg: outcomes.iter().map(error).fold(0.0, f64::max),
+            falls: outcomes.iter().filter(|o| o.fell).count(),
+            bumps: outcomes.iter().filter(|o| o.bumped).count(),
+            mean_time_to_kick_s: times.iter().sum::<f64>() / times.len().max(1) as f64,
+        }
+    }
+}
+
+/// Time allowed from the request to the kick motion [s].
+pub const KICK_LIMIT_S: f64 = 40.0;
+
+/// `count` seeded kicks asking for `distance_m`; each outcome is also logged.
+pub fn kicks(
+    trial: &mut Trial,
+    params: &SkillParams,
+    count: usize,
+    seed: u64,
+    distance_m: f64,
+) -> Result<(Vec<KickOutcome>, KickSummary), TrialError> {
+    let mut outcomes = Vec::with_capacity(count);
+    for (i, setup) in setups(count, seed, distance_m).into_iter().enumerate() {
+        let o = kick_once(trial, params, setup, KICK_LIMIT_S)?;
+        log::info!(
+            "kick {i:2}: robot ({:6.2}, {:6.2}, {:6.1}°) ball ({:6.2}, {:6.2}) towards {:6.1}°: \
+             {:5.2} m, error {:+6.1}°, kicked {}, after {:.1} s, bumped {}, fell {}",
+            setup.robot[0],
+            setup.robot[1],
+            setup.robot[2],
+            setup.ball[0],
+            setup.ball[1],
+            setup.direction_deg,
+            o.distance_m,
+            o.direction_error_deg,
+            o.kicked,
+            o.time_to_kick_s.unwrap_or(f64::NAN),
+            o.bumped,
+            o.fell
+        );
+        outcomes.push(o);
+    }
+    let summary = KickSummary::of(&outcomes);
+    Ok((outcomes, summary))
+}
