@@ -1,8 +1,9 @@
 //! `libero optimize walk`: CMA-ES over the walk's parameters against the real server.
 //!
-//! Each candidate walks a [`Course`] on a fast-mode server; its cost is minus the progress
-//! made the commanded way, plus a heavy penalty for falling (scaled by how early). Several
-//! servers evaluate a generation in parallel. Parameters are searched in coordinates
+//! Each candidate walks every one of a few [`Course`]s on a fast-mode server (several courses,
+//! so it cannot fit one sequence of commands); its cost is minus the progress made the
+//! commanded way, plus a heavy penalty for falling (the earlier, the heavier). Several servers
+//! evaluate a generation in parallel. Parameters are searched in coordinates
 //! normalised to their allowed range, so one step size fits all.
 
 use crate::cmaes::CmaEs;
@@ -32,7 +33,36 @@ macro_rules! tunable {
     };
 }
 
-/// The walk numbers the optimiser searches by default.
+/// The walk numbers the optimiser searches by default: the few that decide how fast and how
+/// steadily the gait goes (cadence, clearance, weight shift, where the feet land, lean, ankle
+/// damping). Fewer dimensions let a run of an hour on one server actually converge.
+pub const DEFAULT_WALK_TUNABLES: [&str; 7] = [
+    "step_period_s",
+    "step_height_m",
+    "sway_m",
+    "foot_x_offset_m",
+    "torso_lean_deg",
+    "ankle_pitch_per_gyro",
+    "ankle_roll_per_gyro",
+];
+
+/// The walk tunables with these names, in the order given; an unknown name is an error that
+/// lists the known ones.
+pub fn select_walk_tunables(names: &[&str]) -> Result<Vec<Tunable>, String> {
+    let mut all = walk_tunables();
+    names
+        .iter()
+        .map(|name| {
+            let at = all.iter().position(|t| t.name == *name).ok_or_else(|| {
+                let known: Vec<&str> = walk_tunables().iter().map(|t| t.name).collect();
+                format!("no walk tunable `{name}` (known: {})", known.join(", "))
+            })?;
+            Ok(all.remove(at))
+        })
+        .collect()
+}
+
+/// Every walk number the optimiser can search.
 pub fn walk_tunables() -> Vec<Tunable> {
     vec![
         tunable!(step_period_s, 0.2, 0.5, walk.step_period_s),
@@ -83,22 +113,41 @@ pub struct Options {
     /// Initial step size in normalised units (1 = the whole range).
     pub sigma: f64,
     pub seed: u64,
-    pub course: Course,
+    /// Stop after the generation that ends past this much wall time (the server's speed
+    /// depends on the machine's load, so a budget in generations alone can run far over).
+    pub budget: Option<std::time::Duration>,
+    /// Every candidate walks all of these; its cost is the sum.
+    pub courses: Vec<Course>,
 }
 
-/// Cost of falling at the very start; a fall at the end of the course costs half of it.
-const FALL_PENALTY: f64 = 20.0;
+/// Cost of falling at the very start, per second of course (progress is counted in seconds
+/// of commanded motion, so this is twice a perfect run); a fall at the end costs half of it.
+const FALL_PENALTY_PER_S: f64 = 2.0;
 
-/// Where the robot starts each episode (well away from the ball at the centre).
-const START: [f64; 3] = [-12.0, 0.0, 0.0];
+/// Where the robot starts each episode (in our half, well away from the ball at the centre,
+/// with room for a course's forward legs).
+const START: [f64; 3] = [-18.0, 0.0, 0.0];
 
 /// The result of a search.
 pub struct Outcome {
     pub best: SkillParams,
     pub best_cost: f64,
     pub start_cost: f64,
+    /// Candidates per generation.
+    pub population: usize,
+    /// Parameter sets evaluated, the start included.
+    pub evaluations: usize,
     /// (generation, best cost so far, mean cost of the generation)
     pub history: Vec<(usize, f64, f64)>,
+}
+
+/// Cost of `params` over all `courses`.
+pub fn evaluate_courses(
+    trial: &mut Trial,
+    params: &SkillParams,
+    courses: &[Course],
+) -> Result<f64, TrialError> {
+    courses.iter().map(|c| evaluate(trial, params, c)).sum()
 }
 
 /// Cost of `params` on `course`: −progress, plus the fall penalty if it fell.
@@ -122,7 +171,8 @@ pub fn evaluate(
         (rec.samples.last().map_or(0.0, |s| s.t) < course.duration_s() - 0.1)
             .then(|| rec.samples.last().map_or(0.0, |s| s.t))
     }) {
-        cost += FALL_PENALTY * (1.0 - 0.5 * t / course.duration_s());
+        let duration = course.duration_s();
+        cost += FALL_PENALTY_PER_S * duration * (1.0 - 0.5 * t / duration);
     }
     Ok(cost)
 }
@@ -147,17 +197,20 @@ fn box_penalty(x: &[f64]) -> f64 {
     x.iter().map(|v| (v - v.clamp(0.0, 1.0)).abs()).sum::<f64>() * 10.0
 }
 
-/// Run CMA-ES from `start`; `report` hears about each finished generation.
+/// Run CMA-ES from `start`; `report` hears about each finished generation: its number, the
+/// best cost so far, the generation's mean cost and the best parameters so far (so a run that
+/// is cut short still tells what it found).
 pub fn optimize(
     start: &SkillParams,
     tunables: &[Tunable],
     options: &Options,
-    mut report: impl FnMut(usize, f64, f64),
+    mut report: impl FnMut(usize, f64, f64, &SkillParams),
 ) -> Result<Outcome, TrialError> {
+    let began = std::time::Instant::now();
     let mut trials = (0..options.servers.max(1))
         .map(|_| Trial::start())
         .collect::<Result<Vec<_>, _>>()?;
-    let start_cost = evaluate(&mut trials[0], start, &options.course)?;
+    let start_cost = evaluate_courses(&mut trials[0], start, &options.courses)?;
     let mut best = (start_cost, start.clone());
     let mut es = CmaEs::new(
         to_normalised(start, tunables),
@@ -168,7 +221,7 @@ pub fn optimize(
     let mut history = Vec::new();
     for generation in 1..=options.generations {
         let xs = es.ask();
-        let costs = evaluate_all(&mut trials, start, &xs, tunables, &options.course)?;
+        let costs = evaluate_all(&mut trials, start, &xs, tunables, &options.courses)?;
         es.tell(&xs, &costs);
         let mean = costs.iter().sum::<f64>() / costs.len() as f64;
         for (x, &c) in xs.iter().zip(&costs) {
@@ -177,12 +230,17 @@ pub fn optimize(
             }
         }
         history.push((generation, best.0, mean));
-        report(generation, best.0, mean);
+        report(generation, best.0, mean, &best.1);
+        if options.budget.is_some_and(|b| began.elapsed() > b) {
+            break;
+        }
     }
     Ok(Outcome {
         best: best.1,
         best_cost: best.0,
         start_cost,
+        population: es.population_size(),
+        evaluations: 1 + es.population_size() * history.len(),
         history,
     })
 }
@@ -192,7 +250,7 @@ fn evaluate_all(
     base: &SkillParams,
     xs: &[Vec<f64>],
     tunables: &[Tunable],
-    course: &Course,
+    courses: &[Course],
 ) -> Result<Vec<f64>, TrialError> {
     let next = Mutex::new(0usize);
     let costs = Mutex::new(vec![f64::INFINITY; xs.len()]);
@@ -209,7 +267,7 @@ fn evaluate_all(
                 };
                 let Some(x) = xs.get(i) else { break };
                 let params = from_normalised(base, x, tunables);
-                match evaluate(trial, &params, course) {
+                match evaluate_courses(trial, &params, courses) {
                     Ok(c) => costs.lock().expect("cost lock")[i] = c + box_penalty(x),
                     Err(e) => {
                         *failure.lock().expect("failure lock") = Some(e);
@@ -272,5 +330,14 @@ mod tests {
         assert_eq!(again.walk.balance.ankle_pitch_per_gyro, -0.05);
         assert_eq!(written.lines().count(), text.lines().count());
         assert!(written.contains("// Omnidirectional walk"));
+    }
+
+    #[test]
+    fn selects_tunables_by_name_and_names_the_known_ones_on_a_typo() {
+        let picked = select_walk_tunables(&DEFAULT_WALK_TUNABLES).unwrap();
+        let names: Vec<&str> = picked.iter().map(|t| t.name).collect();
+        assert_eq!(names, DEFAULT_WALK_TUNABLES);
+        let err = select_walk_tunables(&["step_period"]).err().unwrap();
+        assert!(err.contains("step_period_s"), "{err}");
     }
 }

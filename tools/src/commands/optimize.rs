@@ -5,7 +5,9 @@ use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
-use libero_trial::optimize::{optimize, walk_tunables, write_back, Options};
+use libero_trial::optimize::{
+    optimize, select_walk_tunables, write_back, Options, DEFAULT_WALK_TUNABLES,
+};
 use libero_trial::Course;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,7 +20,10 @@ pub enum Skill {
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum CourseKind {
-    /// Forward, curves, sideways, turning on the spot, backwards (24 s).
+    /// The parameter file's speed limits straight ahead, sideways and turning, then random
+    /// commands within them (25 s per seed).
+    Bars,
+    /// Forward, curves, sideways, turning on the spot, backwards (23 s).
     Standard,
     /// Straight ahead, rising to full speed (15 s).
     Forward,
@@ -43,8 +48,18 @@ pub struct OptimizeArgs {
     pub sigma: f64,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    #[arg(long, value_enum, default_value_t = CourseKind::Standard)]
+    /// Stop after the generation that ends past this many minutes of wall time.
+    #[arg(long)]
+    pub budget_min: Option<f64>,
+    #[arg(long, value_enum, default_value_t = CourseKind::Bars)]
     pub course: CourseKind,
+    /// Seeds of the courses every candidate walks (`bars`: sides and random commands; one
+    /// course per seed, costs summed, so no candidate wins by fitting one sequence).
+    #[arg(long, value_delimiter = ',', default_value = "1,2")]
+    pub course_seeds: Vec<u64>,
+    /// The parameters searched (names as in the parameter file).
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_WALK_TUNABLES.map(String::from))]
+    pub tunables: Vec<String>,
     /// Search and report, but leave the parameter file as it is.
     #[arg(long)]
     pub dry_run: bool,
@@ -57,12 +72,20 @@ fn default_params_file() -> PathBuf {
 pub fn run(args: OptimizeArgs) -> CliResult {
     let model = RobotModel::builtin("T1")?;
     let start = SkillParams::load(&args.params, &model)?;
+    let names: Vec<&str> = args.tunables.iter().map(String::as_str).collect();
     let tunables = match args.skill {
-        Skill::Walk => walk_tunables(),
+        Skill::Walk => select_walk_tunables(&names)?,
     };
-    let course = match args.course {
-        CourseKind::Standard => Course::standard(),
-        CourseKind::Forward => Course::rising(start.walk.max_forward_m_s, 15.0),
+    let w = &start.walk;
+    let limits = [w.max_forward_m_s, w.max_sideways_m_s, w.max_turn_deg_s];
+    let courses = match args.course {
+        CourseKind::Bars => args
+            .course_seeds
+            .iter()
+            .map(|&seed| Course::bars(limits, seed))
+            .collect(),
+        CourseKind::Standard => vec![Course::standard()],
+        CourseKind::Forward => vec![Course::rising(w.max_forward_m_s, 15.0)],
     };
     let options = Options {
         generations: args.generations,
@@ -70,8 +93,12 @@ pub fn run(args: OptimizeArgs) -> CliResult {
         servers: args.servers,
         sigma: args.sigma,
         seed: args.seed,
-        course,
+        budget: args
+            .budget_min
+            .map(|m| std::time::Duration::from_secs_f64(m.max(0.0) * 60.0)),
+        courses,
     };
+    let course_s: f64 = options.courses.iter().map(Course::duration_s).sum();
     println!(
         "optimizing {} parameters of {} over {} generations on {} server(s)",
         tunables.len(),
@@ -79,11 +106,33 @@ pub fn run(args: OptimizeArgs) -> CliResult {
         options.generations,
         options.servers
     );
-    let outcome = optimize(&start, &tunables, &options, |generation, best, mean| {
-        println!("generation {generation:3}: best cost {best:8.3}, mean {mean:8.3}");
-    })?;
+    let began = std::time::Instant::now();
+    let outcome = optimize(
+        &start,
+        &tunables,
+        &options,
+        |generation, cost, mean, best| {
+            let values: Vec<String> = tunables
+                .iter()
+                .map(|t| format!("{}={:.4}", t.name, (t.get)(best)))
+                .collect();
+            println!(
+            "generation {generation:3}: best cost {cost:8.3}, mean {mean:8.3} ({:.0} s) best: {}",
+            began.elapsed().as_secs_f64(),
+            values.join(" ")
+        );
+        },
+    )?;
     println!(
-        "cost {:.3} → {:.3} (lower is better: minus metres made good, +20 for an early fall)",
+        "{} generations of {} candidates, {} evaluations of {course_s:.0} s of course each, {:.0} s wall time",
+        outcome.history.len(),
+        outcome.population,
+        outcome.evaluations,
+        began.elapsed().as_secs_f64()
+    );
+    println!(
+        "cost {:.3} → {:.3} (lower is better: minus seconds of commanded motion achieved; \
+         a fall adds 2 per course second, half that at the very end)",
         outcome.start_cost, outcome.best_cost
     );
     for t in &tunables {

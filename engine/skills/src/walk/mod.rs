@@ -259,14 +259,35 @@ impl Gait {
     }
 }
 
-/// The request within the parameter file's speed limits.
+/// The request within the parameter file's speed limits. Each limit holds alone, and a
+/// combined forward + sideways + turn command is scaled down (direction kept) onto the
+/// ellipsoid through the three limits: full speed one way and full speed another at once is
+/// a step the legs cannot make (diagonal commands at both limits fell in 300 s courses).
 pub fn clamp_command(v: Velocity, p: &WalkParams) -> Velocity {
-    Velocity {
+    let clamped = Velocity {
         forward_m_s: v.forward_m_s.clamp(-p.max_backward_m_s, p.max_forward_m_s),
         sideways_m_s: v
             .sideways_m_s
             .clamp(-p.max_sideways_m_s, p.max_sideways_m_s),
         turn_deg_s: v.turn_deg_s.clamp(-p.max_turn_deg_s, p.max_turn_deg_s),
+    };
+    let forward_limit = if clamped.forward_m_s >= 0.0 {
+        p.max_forward_m_s
+    } else {
+        p.max_backward_m_s
+    };
+    let share = |value: f64, limit: f64| if limit > 0.0 { value / limit } else { 0.0 };
+    let norm = (share(clamped.forward_m_s, forward_limit).powi(2)
+        + share(clamped.sideways_m_s, p.max_sideways_m_s).powi(2)
+        + share(clamped.turn_deg_s, p.max_turn_deg_s).powi(2))
+    .sqrt();
+    if norm <= 1.0 {
+        return clamped;
+    }
+    Velocity {
+        forward_m_s: clamped.forward_m_s / norm,
+        sideways_m_s: clamped.sideways_m_s / norm,
+        turn_deg_s: clamped.turn_deg_s / norm,
     }
 }
 
@@ -281,5 +302,41 @@ fn rate_limit(from: Velocity, to: Velocity, p: &WalkParams, dt: f64) -> Velocity
             p.accel_sideways_m_s2 * dt,
         ),
         turn_deg_s: towards(from.turn_deg_s, to.turn_deg_s, p.accel_turn_deg_s2 * dt),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_axis_gets_its_full_limit_and_combinations_share_it() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&model).unwrap().walk;
+        let ahead = clamp_command(
+            Velocity {
+                forward_m_s: 5.0,
+                ..Default::default()
+            },
+            &p,
+        );
+        assert_eq!(ahead.forward_m_s, p.max_forward_m_s);
+        let both = clamp_command(
+            Velocity {
+                forward_m_s: p.max_forward_m_s,
+                sideways_m_s: -p.max_sideways_m_s,
+                turn_deg_s: 0.0,
+            },
+            &p,
+        );
+        let half = std::f64::consts::FRAC_1_SQRT_2;
+        assert!((both.forward_m_s - half * p.max_forward_m_s).abs() < 1e-12);
+        assert!((both.sideways_m_s + half * p.max_sideways_m_s).abs() < 1e-12);
+        let slow = Velocity {
+            forward_m_s: 0.3 * p.max_forward_m_s,
+            sideways_m_s: 0.3 * p.max_sideways_m_s,
+            turn_deg_s: -0.3 * p.max_turn_deg_s,
+        };
+        assert_eq!(clamp_command(slow, &p), slow);
     }
 }
