@@ -53,6 +53,19 @@ fn main() {
         )
         .unwrap();
     let errors = errors.lock().unwrap();
+    let per_phase = errors.len() / 4;
+    for phase in 0..4 {
+        let part = &errors[phase * per_phase..(phase + 1) * per_phase];
+        let max = |axis: usize| part.iter().map(|e| e[axis].abs()).fold(0.0, f64::max);
+        let mean = |axis: usize| part.iter().map(|e| e[axis]).sum::<f64>() / part.len() as f64;
+        println!(
+            "phase {phase}: roll mean {:+.2} max {:.2}, pitch mean {:+.2} max {:.2}",
+            mean(0),
+            max(0),
+            mean(1),
+            max(1)
+        );
+    }
     for (axis, name) in [(0, "roll"), (1, "pitch")] {
         let mut v: Vec<f64> = errors.iter().map(|e| e[axis].abs()).collect();
         v.sort_by(f64::total_cmp);

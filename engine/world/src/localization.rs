@@ -18,6 +18,11 @@ use libero_protocol::percept::Vision;
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
 
 /// The agent's belief about its own torso pose.
+/// Magnitude of gravity [m/s²] (MuJoCo and SimSpark both use it).
+const STANDARD_GRAVITY: f64 = 9.81;
+/// Low-pass factor per cycle of the accelerometer copy used to detect a still body.
+const ACCEL_SMOOTHING: f64 = 0.3;
+
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SelfEstimate {
     /// Torso position on the ground, global field frame [m].
@@ -83,7 +88,13 @@ pub struct Localizer {
     state: Vector3<f64>,
     covariance: Matrix3<f64>,
     initialized: bool,
-    gravity: Vector3<f64>,
+    /// World "up" seen from the torso (unit), carried by the gyro and pulled towards the
+    /// accelerometer.
+    up: Vector3<f64>,
+    /// The accelerometer low-passed over a few cycles, to tell a still body from a swaying one.
+    accel_smoothed: Vector3<f64>,
+    /// False until the first usable accelerometer reading, which sets "up" outright.
+    tilt_known: bool,
     /// Torso → levelled frame (roll and pitch only).
     tilt: UnitQuaternion<f64>,
     previous_feet: Option<[Vector3<f64>; 2]>,
@@ -114,7 +125,9 @@ impl Localizer {
             state: Vector3::zeros(),
             covariance: Matrix3::from_diagonal(&Vector3::new(1e4, 1e4, 10.0)),
             initialized: false,
-            gravity: Vector3::z() * 9.81,
+            up: Vector3::z(),
+            tilt_known: false,
+            accel_smoothed: Vector3::z() * STANDARD_GRAVITY,
             tilt: UnitQuaternion::identity(),
             previous_feet: None,
             rejected_frames: 0,
@@ -163,7 +176,7 @@ impl Localizer {
         dt: f64,
         upright: bool,
     ) {
-        self.update_tilt(accel);
+        self.update_tilt(gyro_deg, accel, dt);
         let kinematics_ok = self
             .kinematics
             .forward(joint_angles, &mut self.poses)
@@ -177,23 +190,58 @@ impl Localizer {
         self.publish();
     }
 
-    fn update_tilt(&mut self, accel: Option<[f64; 3]>) {
-        let Some(a) = accel.map(Vector3::from) else {
-            return;
-        };
-        if !a.iter().all(|c| c.is_finite()) {
-            return;
-        }
-        self.gravity += self.params.gravity_smoothing * (a - self.gravity);
-        // Free fall or a hard impact says nothing about "up": keep the last tilt.
-        if self.gravity.norm() > 3.0 {
-            if let Some(t) = UnitQuaternion::rotation_between(&self.gravity, &Vector3::z()) {
-                self.tilt = t;
-            } else if self.gravity.z < 0.0 {
-                // Exactly upside down: any half turn about a horizontal axis levels it.
-                self.tilt =
-                    UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI);
+    /// A complementary filter: the gyro carries "up" from cycle to cycle, the accelerometer
+    /// pulls it back slowly. The accelerometer alone is fooled while walking: the torso's sway
+    /// and step accelerations tilt the measured specific force by up to ±20°, which throws every
+    /// landmark and ball projected through the camera.
+    fn update_tilt(&mut self, gyro_deg: Option<[f64; 3]>, accel: Option<[f64; 3]>, dt: f64) {
+        if let Some(w) = gyro_deg.map(Vector3::from) {
+            let dt = if dt.is_finite() {
+                dt.clamp(0.0, 0.2)
+            } else {
+                0.0
+            };
+            if w.iter().all(|c| c.is_finite()) {
+                // A world-fixed vector seen from a frame turning at ω turns at −ω.
+                let turn = w.map(f64::to_radians) * -dt;
+                self.up = UnitQuaternion::from_scaled_axis(turn) * self.up;
             }
+        }
+        let p = &self.params;
+        if let Some(a) = accel.map(Vector3::from) {
+            let g = a.norm();
+            // Free fall or a hard impact says nothing about "up".
+            if a.iter().all(|c| c.is_finite()) && (3.0..=20.0).contains(&g) {
+                // Standing still, the accelerometer is the truth and is trusted at once (a beam or
+                // a monitor move turns the body without the gyro seeing it).
+                // (The magnitude alone cannot tell: a sideways sway changes it only second-order.)
+                let steady = (a - self.accel_smoothed).norm() < p.still_accel_tolerance
+                    && (g - STANDARD_GRAVITY).abs() < p.still_accel_tolerance;
+                let still = steady
+                    && gyro_deg.is_some_and(|w| w.iter().all(|c| c.abs() < p.still_gyro_deg_s));
+                let gain = match (self.tilt_known, still) {
+                    (false, _) => 1.0,
+                    (true, true) => p.tilt_accel_correction_still,
+                    (true, false) => p.tilt_accel_correction,
+                };
+                self.up += gain * (a / g - self.up);
+                self.accel_smoothed = if self.tilt_known {
+                    self.accel_smoothed + ACCEL_SMOOTHING * (a - self.accel_smoothed)
+                } else {
+                    a
+                };
+                self.tilt_known = true;
+            }
+        }
+        match self.up.try_normalize(1e-9) {
+            Some(up) => self.up = up,
+            None => self.up = Vector3::z(),
+        }
+        if let Some(t) = UnitQuaternion::rotation_between(&self.up, &Vector3::z()) {
+            self.tilt = t;
+        } else if self.up.z < 0.0 {
+            // Exactly upside down: any half turn about a horizontal axis levels it.
+            self.tilt = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI);
         }
     }
 

@@ -76,3 +76,92 @@ fn one_landmark_keeps_position_with_known_yaw() {
     let error = ((e.position[0] - 3.0).powi(2) + (e.position[1] - 1.0).powi(2)).sqrt();
     assert!(error < 0.3, "no worse than where it started: {e:?}");
 }
+
+/// Feed the tilt filter `seconds` of IMU readings from `imu(t) -> (gyro deg/s, accel)`.
+fn run_tilt(
+    loc: &mut Localizer,
+    seconds: f64,
+    mut imu: impl FnMut(f64) -> ([f64; 3], [f64; 3]),
+    mut check: impl FnMut(f64, &Localizer),
+) {
+    for k in 0..(seconds / 0.02) as usize {
+        let t = 0.02 * k as f64;
+        let (gyro, accel) = imu(t);
+        loc.update_tilt(Some(gyro), Some(accel), 0.02);
+        check(t, loc);
+    }
+}
+
+fn tilt_localizer() -> Localizer {
+    let model = RobotModel::builtin("T1").unwrap();
+    let params = crate::WorldParams::builtin().localization;
+    Localizer::new(&model, Kinematics::new(&model), params)
+}
+
+fn roll_pitch_deg(loc: &Localizer) -> (f64, f64) {
+    let (roll, pitch, _) = loc.tilt.euler_angles();
+    (roll.to_degrees(), pitch.to_degrees())
+}
+
+#[test]
+fn walking_sway_does_not_read_as_tilt() {
+    // An upright torso swaying sideways at ±2.5 m/s² (a walk's lateral acceleration): the
+    // specific force leans ±14°, the torso does not turn at all.
+    let mut loc = tilt_localizer();
+    let mut worst: f64 = 0.0;
+    run_tilt(
+        &mut loc,
+        10.0,
+        |t| {
+            let lateral = 2.5 * (std::f64::consts::TAU * t / 0.7).sin();
+            ([0.0, 0.0, 0.0], [0.0, lateral, 9.81])
+        },
+        |t, loc| {
+            if t > 1.0 {
+                let (roll, pitch) = roll_pitch_deg(loc);
+                worst = worst.max(roll.abs()).max(pitch.abs());
+            }
+        },
+    );
+    // The accelerometer alone reads the full ±14°; the filter leaves a ripple of about 2°.
+    assert!(worst < 3.0, "sway read as {worst:.1}° of tilt");
+}
+
+#[test]
+fn the_gyro_carries_a_real_lean_and_a_still_body_trusts_the_accelerometer() {
+    let mut loc = tilt_localizer();
+    // Lean forward at 20°/s for 1 s while the accelerometer is shaken by ±3 m/s² along x: the
+    // estimate follows the gyro.
+    let rate = 20.0f64;
+    run_tilt(
+        &mut loc,
+        1.0,
+        |t| {
+            let pitch = (rate * t).to_radians();
+            let shake = 3.0 * (std::f64::consts::TAU * t / 0.35).sin();
+            (
+                [0.0, rate, 0.0],
+                [-9.81 * pitch.sin() + shake, 0.0, 9.81 * pitch.cos()],
+            )
+        },
+        |_, _| {},
+    );
+    let (_, pitch) = roll_pitch_deg(&loc);
+    assert!(
+        (pitch - 20.0).abs() < 2.0,
+        "pitch {pitch:.1}° after a 20° lean"
+    );
+    // Then moved by a monitor to 10° of roll, standing still: the accelerometer wins quickly.
+    let roll = 10f64.to_radians();
+    run_tilt(
+        &mut loc,
+        0.5,
+        |_| ([0.0, 0.0, 0.0], [0.0, 9.81 * roll.sin(), 9.81 * roll.cos()]),
+        |_, _| {},
+    );
+    let (r, p) = roll_pitch_deg(&loc);
+    assert!(
+        (r - 10.0).abs() < 1.0 && p.abs() < 1.0,
+        "roll {r:.1}°, pitch {p:.1}°"
+    );
+}

@@ -18,7 +18,10 @@ pub struct LocalizationParams {
     pub relocalize_yaw_deg: f64,
     pub relocalize_fit_rms: f64,
     pub lost_after_rejected_frames: u32,
-    pub gravity_smoothing: f64,
+    pub tilt_accel_correction: f64,
+    pub tilt_accel_correction_still: f64,
+    pub still_gyro_deg_s: f64,
+    pub still_accel_tolerance: f64,
 }
 
 /// Ball tracking and motion-model settings.
@@ -138,6 +141,8 @@ impl WorldParams {
         };
         non_negative("vision_sigma_per_metre", l.vision_sigma_per_metre);
         non_negative("odometry_sigma_per_metre", l.odometry_sigma_per_metre);
+        non_negative("still_gyro_deg_s", l.still_gyro_deg_s);
+        non_negative("still_accel_tolerance", l.still_accel_tolerance);
         for (i, f) in b.friction_by_direction.iter().enumerate() {
             non_negative(
                 &format!("friction_by_direction[{i}].quadratic_drag"),
@@ -150,7 +155,8 @@ impl WorldParams {
                 problems.push(format!("`{name}` must be in (0, 1], not {v}"));
             }
         };
-        fraction("gravity_smoothing", l.gravity_smoothing);
+        fraction("tilt_accel_correction", l.tilt_accel_correction);
+        fraction("tilt_accel_correction_still", l.tilt_accel_correction_still);
         fraction("rolling_speed_ratio", b.rolling_speed_ratio);
         if b.drag_learning_rate > 1.0 {
             problems.push(format!(
