@@ -64,6 +64,8 @@ pub struct TreeDecider {
     natives: Natives,
     runner: Option<TreeRunner>,
     unum: u32,
+    /// What the skills made of the previous cycle's intent (a kick node waits for `Done`).
+    skills: SkillStatus,
 }
 
 impl TreeDecider {
@@ -73,6 +75,7 @@ impl TreeDecider {
             natives,
             runner: None,
             unum,
+            skills: SkillStatus::default(),
         }
     }
 
@@ -103,11 +106,16 @@ impl Decider for TreeDecider {
                 world,
                 strategy: library.strategy(),
                 natives: &self.natives,
+                skills: &self.skills,
                 intent: &mut intent,
             };
             runner.tick(&mut host, &library);
         }
         intent
+    }
+
+    fn observe(&mut self, status: &SkillStatus) {
+        self.skills = *status;
     }
 
     fn trace_line(&self) -> Option<String> {

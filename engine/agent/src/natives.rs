@@ -8,7 +8,8 @@
 use libero_behavior::{
     Args, Host, NativeId, NativeKind, Situation, Status, Strategy, Value, Vec2, Vocabulary,
 };
-use libero_skills::{BodyIntent, HeadIntent, Intent};
+use libero_skills::kick::KickState;
+use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
 use libero_world::{PlayMode, Posture, Relation, Side, World};
 
 /// Every native node the agent implements.
@@ -93,6 +94,8 @@ pub struct AgentHost<'a> {
     pub world: &'a World,
     pub strategy: &'a Strategy,
     pub natives: &'a Natives,
+    /// The skills' state after the previous cycle.
+    pub skills: &'a SkillStatus,
     pub intent: &'a mut Intent,
 }
 
@@ -194,9 +197,6 @@ impl AgentHost<'_> {
     }
 }
 
-/// A ball rolling faster than this [m/s], away from the robot, has been kicked.
-const KICKED_BALL_M_S: f64 = 0.8;
-
 impl AgentHost<'_> {
     fn kick_to(&mut self, target: Vec2, distance: f64, lost_after: f64) -> Status {
         let world = self.world;
@@ -212,13 +212,13 @@ impl AgentHost<'_> {
                 Status::Running
             };
         }
-        let ball = world.ball.position;
-        let [mx, my] = world.me.position;
-        let [vx, vy] = world.ball.velocity;
-        let away = (ball[0] - mx) * vx + (ball[1] - my) * vy > 0.0;
-        if vx.hypot(vy) > KICKED_BALL_M_S && away {
+        // The kick skill reports `Done` until it is asked for something else: succeed and
+        // ask for nothing, so the next kick starts afresh.
+        if self.skills.kick == KickState::Done {
             return Status::Success;
         }
+        let ball = world.ball.position;
+        let [mx, my] = world.me.position;
         let [tx, ty] = world.to_own_frame([target.x, target.y]);
         let yaw = world.me.yaw_deg.to_radians();
         let (s, c) = yaw.sin_cos();
@@ -326,17 +326,22 @@ mod tests {
         );
     }
 
-    fn kick_to_in(world: &World, target: Vec2) -> (Status, Intent) {
+    fn kick_to_in(world: &World, target: Vec2, kick: KickState) -> (Status, Intent) {
         let vocabulary = vocabulary();
         let natives = Natives::new(&vocabulary);
         let library =
             libero_behavior::Library::load(&crate::build::default_data_dirs(), &vocabulary)
                 .unwrap();
         let mut intent = Intent::default();
+        let skills = SkillStatus {
+            kick,
+            ..SkillStatus::default()
+        };
         let mut host = AgentHost {
             world,
             strategy: library.strategy(),
             natives: &natives,
+            skills: &skills,
             intent: &mut intent,
         };
         let id = vocabulary.find(NativeKind::Action, "KickTo").unwrap();
@@ -346,7 +351,7 @@ mod tests {
     }
 
     #[test]
-    fn kick_to_asks_for_a_kick_in_the_robot_frame_and_succeeds_once_the_ball_rolls_away() {
+    fn kick_to_asks_for_a_kick_in_the_robot_frame_and_succeeds_once_the_kick_is_done() {
         let model = libero_model::RobotModel::builtin("T1").unwrap();
         let mut world = World::new(&model, "Libero", 2);
         // The right team: own frame = global frame turned by 180°.
@@ -359,7 +364,7 @@ mod tests {
         world.ball.last_seen_time = Some(10.0);
         // Own frame: robot (−1, −1), ball (0, −2); target (4, −2) lies straight beyond the ball
         // along own +x, i.e. straight ahead of the robot.
-        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0));
+        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0), KickState::Idle);
         assert_eq!(status, Status::Running);
         let BodyIntent::Kick {
             ball,
@@ -377,15 +382,20 @@ mod tests {
         assert!(direction_deg.abs() < 1e-9, "{direction_deg}");
         assert!((distance_m - 4.0).abs() < 1e-9, "{distance_m}");
 
-        // Rolling away from the robot: kicked.
-        world.ball.velocity = [-1.5, 0.5];
-        assert_eq!(kick_to_in(&world, Vec2::new(4.0, -2.0)).0, Status::Success);
-        // Rolling towards the robot: not our kick.
-        world.ball.velocity = [1.5, -0.5];
-        assert_eq!(kick_to_in(&world, Vec2::new(4.0, -2.0)).0, Status::Running);
+        // While the skill approaches or kicks, the node runs on.
+        for state in [KickState::Approaching, KickState::Kicking] {
+            assert_eq!(
+                kick_to_in(&world, Vec2::new(4.0, -2.0), state).0,
+                Status::Running
+            );
+        }
+        // Kicked: success, asking for no further kick (the skill resets for the next one).
+        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0), KickState::Done);
+        assert_eq!(status, Status::Success);
+        assert_eq!(intent.body, BodyIntent::Stand);
         // Unseen for longer than `lost_after`: give up, scanning for it.
         world.time = 15.0;
-        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0));
+        let (status, intent) = kick_to_in(&world, Vec2::new(4.0, -2.0), KickState::Idle);
         assert_eq!(status, Status::Failure);
         assert!(matches!(intent.head, HeadIntent::LookAround { .. }));
     }

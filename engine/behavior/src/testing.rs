@@ -102,7 +102,7 @@ impl Vocabulary {
             .with(
                 NodeSpec::action(
                     "KickTo",
-                    "Kicks the ball towards a field point: the kick skill walks to its kicking place behind the ball from any side, then kicks (short or long by distance). Succeeds once the ball is seen rolling away; fails when the ball has not been seen for `lost_after` seconds.",
+                    "Kicks the ball towards a field point: the kick skill walks to its kicking place behind the ball from any side, then kicks (short or long by distance). Succeeds once the kick skill reports the kick done; fails when the ball has not been seen for `lost_after` seconds.",
                 )
                 .param(
                     ParamSpec::new("target", Vec2)

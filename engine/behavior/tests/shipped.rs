@@ -80,7 +80,7 @@ fn formation_reproduces_its_samples_and_interpolates_between_them() {
 }
 
 #[test]
-fn field_player_beams_before_kick_off_and_chases_the_ball_when_closest() {
+fn field_player_beams_before_kick_off_and_kicks_towards_the_goal_when_closest() {
     let library = library();
     let vocabulary = Vocabulary::reference();
     let mut host = ScriptedHost::new(&vocabulary);
@@ -102,11 +102,11 @@ fn field_player_beams_before_kick_off_and_chases_the_ball_when_closest() {
     assert_eq!(
         host.calls.last().unwrap(),
         &(
-            "WalkTo".to_string(),
+            "KickTo".to_string(),
             vec![
-                Value::Vec2(Vec2::new(3.0, 4.0)),
-                Value::Float(0.6),
-                Value::Float(0.2)
+                Value::Vec2(Vec2::new(14.0, 0.0)),
+                Value::Float(0.0),
+                Value::Float(4.0)
             ]
         )
     );
@@ -115,13 +115,9 @@ fn field_player_beams_before_kick_off_and_chases_the_ball_when_closest() {
         ["BeamToFormation"],
         "the abandoned beam is halted"
     );
-    assert_eq!(
-        runner.blackboard().get("walk_target"),
-        Some(&Value::Vec2(Vec2::new(3.0, 4.0)))
-    );
     let leaves = runner.trace().last().unwrap().leaves();
     assert!(
-        leaves.contains(&("Action WalkTo", Status::Running)),
+        leaves.contains(&("Action KickTo", Status::Running)),
         "{leaves:?}"
     );
 }
