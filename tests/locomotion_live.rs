@@ -116,19 +116,25 @@ fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
             distance_m: 8.0,
         },
     ];
+    // Measured (24 kicks: 6 runs of this test and 6 with `CI_SIDES=1 kick_probe`): no falls,
+    // 3.7–8.5 m, |direction| ≤ 15.2°, mean per run of three ≥ 4.7 m.
     let mut good = 0;
+    let mut travelled = 0.0;
     for s in setups {
         let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
         eprintln!("{s:?}: {o:?}");
         if o.kicked && !o.fell {
             assert!(o.distance_m >= 3.0, "kicked only {:.2} m", o.distance_m);
             assert!(
-                o.direction_error_deg.abs() <= 30.0,
+                o.direction_error_deg.abs() <= 20.0,
                 "direction off by {:.1}°",
                 o.direction_error_deg
             );
             good += 1;
+            travelled += o.distance_m;
         }
     }
     assert!(good >= 2, "{good} of 3 kicks made without a fall");
+    let mean = travelled / f64::from(good);
+    assert!(mean >= 4.0, "kicks made travelled {mean:.2} m on average");
 }

@@ -158,6 +158,7 @@ impl Skills {
                 },
                 world.time,
                 self.walk.is_stepping(),
+                world.body.gyro[0].abs().max(world.body.gyro[1].abs()),
                 &self.params.kick,
                 walk_params,
             )),
@@ -203,7 +204,14 @@ impl Skills {
             self.kick
                 .write_pose(world, &self.params.kick, &mut self.pose);
             ActiveSkill::Kick
-        } else if request.is_some() || self.walk.is_stepping() {
+        } else if request.is_some()
+            || self.walk.is_stepping()
+            || matches!(kick, Some(kick::KickOutput::Walk(None)))
+        {
+            // Near the kicking place the robot stops and looks in the walk's own posture, the
+            // one the kick motion starts from: changing to the taller standing pose there
+            // (and back when the kick starts) tips a robot that has just stopped walking
+            // over backwards.
             self.walk
                 .update(world, request, walk_params, &mut self.pose);
             ActiveSkill::Walk

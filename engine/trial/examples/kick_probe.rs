@@ -1,6 +1,6 @@
 //! Experiment helper: kicks from the kicking place (or from around the ball) and their outcome.
 //! `cargo run --release -p libero-trial --example kick_probe -- <count> <distance_m> [params.ron]`
-//! `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`.
+//! `CI_SIDES=1`: the live test's three approaches, repeated. `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`.
 use libero_skills::SkillParams;
 use libero_trial::kick_bench::{kick_once, setups, KickSetup, KickSummary};
 use libero_trial::Trial;
@@ -22,6 +22,23 @@ fn main() {
         .unwrap_or(1);
     let list: Vec<KickSetup> = if std::env::var("AROUND").is_ok() {
         setups(count, seed, distance)
+    } else if std::env::var("CI_SIDES").is_ok() {
+        // The three approaches of the live test `long_kicks_from_three_sides_...`.
+        let s = |robot: [f64; 3], ball: [f64; 2], direction_deg: f64| KickSetup {
+            robot,
+            ball,
+            direction_deg,
+            distance_m: distance,
+        };
+        [
+            s([-6.0, 0.8, 0.0], [-5.0, 0.0], 0.0),
+            s([0.0, -3.0, -90.0], [0.0, -1.5], 90.0),
+            s([2.0, 2.0, 180.0], [3.0, 1.0], -135.0),
+        ]
+        .into_iter()
+        .cycle()
+        .take(count)
+        .collect()
     } else {
         let ap = &params.kick.approach;
         let side = if std::env::var("RIGHT").is_ok() {

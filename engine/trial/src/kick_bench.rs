@@ -147,11 +147,13 @@ pub fn kick_once(
             p.ball_start = truth_ball;
         }
         log::trace!(
-            "t {t:6.2} kick {:?} torso {:?} roll {:.1} pitch {:.1} ball {:?} ball est {:?} me {:?} {:.1} legs {:?}",
+            "t {t:6.2} kick {:?} torso {:?} roll {:.1} pitch {:.1} gyro {:.0} {:.0} ball {:?} ball est {:?} me {:?} {:.1} legs {:?}",
             status.lock().map(|s| s.kick).ok(),
             world.truth.torso_position,
             world.me.roll_deg,
             world.me.pitch_deg,
+            world.body.gyro[0],
+            world.body.gyro[1],
             truth_ball,
             world.ball.position,
             world.me.position,

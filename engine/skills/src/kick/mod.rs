@@ -124,13 +124,15 @@ impl Kick {
         self.correcting_until = None;
     }
 
-    /// One cycle of a kick request. `walk_stepping`: the walk is still making steps (the kick
-    /// starts only once the robot stands still at the kicking place).
+    /// One cycle of a kick request. `walk_stepping`: the walk is still making steps;
+    /// `body_rate_deg_s`: the torso's largest roll or pitch rate. The kick starts only once the
+    /// robot stands still at the kicking place and its body has stopped swaying.
     pub fn update(
         &mut self,
         request: KickRequest,
         now: f64,
         walk_stepping: bool,
+        body_rate_deg_s: f64,
         k: &KickParams,
         w: &WalkParams,
     ) -> KickOutput {
@@ -177,7 +179,9 @@ impl Kick {
             }
             self.correcting_until = None;
         }
-        if walk_stepping {
+        // A body still swaying from the last steps starts the kick tilted, and the swing's
+        // own sideways jolt then throws it over.
+        if walk_stepping || body_rate_deg_s > a.calm_rate_deg_s {
             self.still_since = None;
             return KickOutput::Walk(None);
         }
@@ -304,7 +308,7 @@ mod tests {
             direction_deg: 0.0,
             distance_m: 8.0,
         };
-        match kick.update(far, 0.0, false, k, w) {
+        match kick.update(far, 0.0, false, 0.0, k, w) {
             KickOutput::Walk(Some(v)) => assert!(v.forward_m_s > 0.0, "{v:?}"),
             other => panic!("{other:?}"),
         }
@@ -315,12 +319,12 @@ mod tests {
         };
         // Still stepping: stop first.
         assert_eq!(
-            kick.update(at_place, 1.0, true, k, w),
+            kick.update(at_place, 1.0, true, 0.0, k, w),
             KickOutput::Walk(None)
         );
         // Standing: look for `look_s`, then kick with the left foot (the ball is on the left).
         let mut t = 1.0;
-        while kick.update(at_place, t, false, k, w) != KickOutput::Motion {
+        while kick.update(at_place, t, false, 0.0, k, w) != KickOutput::Motion {
             assert!(t < 1.0 + k.approach.look_s + 0.1, "no kick at {t}");
             t += 0.02;
         }
@@ -338,21 +342,50 @@ mod tests {
         );
         let end = t + d.shift_s + d.windup_s + d.swing_s + d.retract_s + d.recover_s;
         assert_eq!(
-            kick.update(at_place, end - 0.05, false, k, w),
+            kick.update(at_place, end - 0.05, false, 0.0, k, w),
             KickOutput::Motion
         );
         assert_eq!(
-            kick.update(at_place, end + 0.01, false, k, w),
+            kick.update(at_place, end + 0.01, false, 0.0, k, w),
             KickOutput::Stand
         );
         assert_eq!(kick.state(), KickState::Done);
         // Done stays done while the same kick is asked for.
         assert_eq!(
-            kick.update(at_place, end + 1.0, false, k, w),
+            kick.update(at_place, end + 1.0, false, 0.0, k, w),
             KickOutput::Stand
         );
         kick.reset();
         assert_eq!(kick.state(), KickState::Idle);
+    }
+
+    #[test]
+    fn a_swaying_body_delays_the_kick_until_it_is_calm() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let mut kick = Kick::new(&t1).unwrap();
+        let req = KickRequest {
+            ball: [k.approach.ball_ahead_m, k.approach.ball_beside_m],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        let swaying = 2.0 * k.approach.calm_rate_deg_s;
+        let mut t = 0.0;
+        while t < 3.0 * k.approach.look_s {
+            assert_eq!(
+                kick.update(req, t, false, swaying, k, w),
+                KickOutput::Walk(None)
+            );
+            t += 0.02;
+        }
+        // Calm from now: the look starts over, then the kick.
+        let calm_from = t;
+        while kick.update(req, t, false, 0.0, k, w) != KickOutput::Motion {
+            t += 0.02;
+            assert!(t < calm_from + k.approach.look_s + 0.1, "no kick at {t}");
+        }
+        assert!(t >= calm_from + k.approach.look_s);
     }
 
     #[test]
@@ -367,7 +400,7 @@ mod tests {
             distance_m: k.long_kick_from_m / 2.0,
         };
         let mut t = 0.0;
-        while kick.update(req, t, false, k, w) != KickOutput::Motion {
+        while kick.update(req, t, false, 0.0, k, w) != KickOutput::Motion {
             t += 0.02;
             assert!(t < 5.0);
         }

@@ -48,6 +48,9 @@ pub struct KickApproach {
     /// how long each correction walk lasts [s].
     pub look_s: f64,
     pub correction_s: f64,
+    /// Standing still means also a torso roll and pitch rate below this [deg/s]: the look
+    /// (and so the kick) waits until the sway from the last steps has died down.
+    pub calm_rate_deg_s: f64,
     /// Head pitch while approaching, so the ball stays in view near the feet [deg].
     pub look_down_deg: f64,
 }
@@ -132,6 +135,7 @@ impl KickParams {
         in_range(&p("ready_deg"), a.ready_deg, 0.1, 45.0)?;
         in_range(&p("look_s"), a.look_s, 0.0, 5.0)?;
         in_range(&p("correction_s"), a.correction_s, 0.05, 5.0)?;
+        in_range(&p("calm_rate_deg_s"), a.calm_rate_deg_s, 0.1, 100.0)?;
         in_range(&p("look_down_deg"), a.look_down_deg, -90.0, 90.0)?;
         // A path ending at the kicking place must be able to keep the clearance.
         let place_distance = a.ball_ahead_m.hypot(a.ball_beside_m);
