@@ -166,7 +166,18 @@ fn score(run: &GetUpRun) -> f64 {
         .stood_at
         .filter(|&t| t < getup_bench::GET_UP_LIMIT_S)
         .map_or(0.0, |t| 1.0 + 0.2 * (getup_bench::GET_UP_LIMIT_S - t));
-    tail_mean + 0.5 * best + stood
+    // With PRONE_WEIGHT (for a back motion that rolls onto the front first): credit for the
+    // share of the episode the agent itself reports lying face down.
+    let prone_weight: f64 = std::env::var("PRONE_WEIGHT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0.0);
+    let prone = s
+        .iter()
+        .filter(|x| x.posture == libero_world::Posture::FallenFront)
+        .count() as f64
+        / s.len().max(1) as f64;
+    tail_mean + 0.5 * best + stood + prone_weight * prone
 }
 
 fn print_motion(p: &mut SkillParams, side: Lying) {
