@@ -1,6 +1,7 @@
 //! Getting up from lying: key-frame motions from the parameter file, one for lying face down
 //! and one for lying on the back, started by the fall detector.
 
+use crate::walk::balance::Attitude;
 use crate::walk::params::in_range;
 use libero_model::{Gains, RobotModel};
 use libero_world::{Posture, World};
@@ -13,6 +14,74 @@ use std::collections::BTreeMap;
 pub struct Keyframe {
     pub duration_s: f64,
     pub pose: BTreeMap<String, f64>,
+    /// Hold the pose after `duration_s` until the IMU reports this, so the next frame starts
+    /// from a sensed state rather than a moment in time (the dynamic phases are chaotic in
+    /// time). Not met within `timeout_s` more: the motion gives up and starts over.
+    #[serde(default)]
+    pub until: Option<Condition>,
+    #[serde(default = "default_timeout_s")]
+    pub timeout_s: f64,
+    /// Torso pitch [deg, + nose down] this frame should end at; when given, the ankles and
+    /// hips push against the measured deviation (`get_up.balance`) during the frame.
+    #[serde(default)]
+    pub balance_pitch_deg: Option<f64>,
+}
+
+fn default_timeout_s() -> f64 {
+    1.0
+}
+
+/// A state of the torso read from the agent's own IMU (accelerometer-derived attitude).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+pub enum Condition {
+    /// Torso pitch above this [deg, + nose down].
+    TorsoPitchAbove(f64),
+    /// Torso pitch below this [deg].
+    TorsoPitchBelow(f64),
+    /// Torso within this many degrees of vertical (pitch and roll).
+    UprightWithin(f64),
+}
+
+impl Condition {
+    pub fn holds(self, a: &Attitude) -> bool {
+        match self {
+            Condition::TorsoPitchAbove(deg) => a.pitch_deg > deg,
+            Condition::TorsoPitchBelow(deg) => a.pitch_deg < deg,
+            Condition::UprightWithin(deg) => a.pitch_deg.abs() < deg && a.roll_deg.abs() < deg,
+        }
+    }
+
+    fn validate(self, at: &str) -> Result<(), String> {
+        match self {
+            Condition::TorsoPitchAbove(d) | Condition::TorsoPitchBelow(d) => {
+                in_range(&format!("{at}.until"), d, -180.0, 180.0)
+            }
+            Condition::UprightWithin(d) => in_range(&format!("{at}.until"), d, 0.0, 90.0),
+        }
+    }
+}
+
+/// Balance feedback in key frames with `balance_pitch_deg`: offsets added to both ankle and
+/// hip pitch targets [deg per deg of pitch error, deg per deg/s of pitch rate].
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+pub struct GetUpBalance {
+    pub ankle_per_deg: f64,
+    pub ankle_per_gyro: f64,
+    pub hip_per_deg: f64,
+    pub hip_per_gyro: f64,
+    pub max_deg: f64,
+}
+
+impl Default for GetUpBalance {
+    fn default() -> Self {
+        Self {
+            ankle_per_deg: 0.0,
+            ankle_per_gyro: 0.0,
+            hip_per_deg: 0.0,
+            hip_per_gyro: 0.0,
+            max_deg: 0.0,
+        }
+    }
 }
 
 /// The get-up motions.
@@ -26,6 +95,8 @@ pub struct GetUpParams {
     pub gains: BTreeMap<String, Gains>,
     /// Wait this long lying still before starting, so the body has come to rest [s].
     pub rest_s: f64,
+    #[serde(default)]
+    pub balance: GetUpBalance,
 }
 
 impl GetUpParams {
@@ -37,6 +108,13 @@ impl GetUpParams {
             for (k, frame) in motion.iter().enumerate() {
                 let at = format!("get_up.{name}[{k}]");
                 in_range(&format!("{at}.duration_s"), frame.duration_s, 0.02, 5.0)?;
+                in_range(&format!("{at}.timeout_s"), frame.timeout_s, 0.0, 5.0)?;
+                if let Some(c) = frame.until {
+                    c.validate(&at)?;
+                }
+                if let Some(pitch) = frame.balance_pitch_deg {
+                    in_range(&format!("{at}.balance_pitch_deg"), pitch, -90.0, 90.0)?;
+                }
                 for (joint, &angle) in &frame.pose {
                     let id = model.joint_id(joint).ok_or_else(|| {
                         format!("{at}.pose: `{joint}` is not a joint of {}", model.name)
@@ -53,6 +131,16 @@ impl GetUpParams {
             in_range(&format!("get_up.gains.{joint}.kp"), g.kp, 0.0, 3000.0)?;
             in_range(&format!("get_up.gains.{joint}.kd"), g.kd, 0.0, 30.0)?;
         }
+        let b = &self.balance;
+        for (name, v) in [
+            ("ankle_per_deg", b.ankle_per_deg),
+            ("ankle_per_gyro", b.ankle_per_gyro),
+            ("hip_per_deg", b.hip_per_deg),
+            ("hip_per_gyro", b.hip_per_gyro),
+        ] {
+            in_range(&format!("get_up.balance.{name}"), v, -5.0, 5.0)?;
+        }
+        in_range("get_up.balance.max_deg", b.max_deg, 0.0, 45.0)?;
         in_range("get_up.rest_s", self.rest_s, 0.0, 3.0)
     }
 }
@@ -74,8 +162,10 @@ pub struct GetUp {
 #[derive(Debug, Clone)]
 struct Run {
     lying: Lying,
-    started_s: f64,
-    /// The pose the motion starts from (the angles measured when it began).
+    /// The key frame being played, when it started, and the pose it starts from (the
+    /// measured angles for the first frame, the previous frame's target after that).
+    frame: usize,
+    frame_started_s: f64,
     from: Vec<f64>,
 }
 
@@ -129,24 +219,28 @@ impl GetUp {
             };
             self.running = Some(Run {
                 lying,
-                started_s: world.time,
+                frame: 0,
+                frame_started_s: world.time,
                 from: world.body.joint_angles.clone(),
             });
         }
-        let run = self.running.as_ref().expect("started above");
+        let run = self.running.as_mut().expect("started above");
         let motion = match run.lying {
             Lying::Front => &p.front,
             Lying::Back => &p.back,
         };
-        let t = world.time - run.started_s;
-        match play(motion, &run.from, t, model, pose) {
-            Some(()) => true,
-            None => {
-                // Played out: if still lying, start over from the new posture next cycle.
-                self.running = None;
-                true
+        let attitude = Attitude::from_body(&world.body);
+        match step(run, motion, world.time, &attitude, model, pose) {
+            Step::Playing => {
+                if let Some(lean) = motion.get(run.frame).and_then(|f| f.balance_pitch_deg) {
+                    balance(&p.balance, &attitude, lean, model, pose);
+                }
             }
+            // Played out, or a sensed condition never came: if still lying, start over
+            // from the new posture next cycle.
+            Step::Ended | Step::GaveUp => self.running = None,
         }
+        true
     }
 }
 
@@ -156,38 +250,186 @@ impl Default for GetUp {
     }
 }
 
-/// Write the motion's pose at `t` seconds into `pose`; `None` once it has ended.
-fn play(
+enum Step {
+    Playing,
+    Ended,
+    GaveUp,
+}
+
+fn target_of(frame: &Keyframe, from: &[f64], model: &RobotModel) -> Vec<f64> {
+    let mut target = from.to_vec();
+    for (joint, &angle) in &frame.pose {
+        if let Some(id) = model.joint_id(joint) {
+            target[id] = angle;
+        }
+    }
+    target
+}
+
+/// Advance `run` to `now` and write its pose: frames end after `duration_s`, or for a frame
+/// with `until`, once the condition holds after that.
+fn step(
+    run: &mut Run,
     motion: &[Keyframe],
-    from: &[f64],
-    t: f64,
+    now: f64,
+    attitude: &Attitude,
     model: &RobotModel,
     pose: &mut [f64],
-) -> Option<()> {
-    pose.copy_from_slice(from);
-    if t < 0.0 {
-        return Some(());
-    }
-    let mut previous = from.to_vec();
-    let mut start = 0.0;
-    for frame in motion {
-        let mut target = previous.clone();
-        for (joint, &angle) in &frame.pose {
-            if let Some(id) = model.joint_id(joint) {
-                target[id] = angle;
-            }
-        }
-        if t < start + frame.duration_s {
-            let s = ((t - start) / frame.duration_s).clamp(0.0, 1.0);
+) -> Step {
+    loop {
+        let Some(frame) = motion.get(run.frame) else {
+            pose.copy_from_slice(&run.from);
+            return Step::Ended;
+        };
+        let target = target_of(frame, &run.from, model);
+        let t = now - run.frame_started_s;
+        let done = t >= frame.duration_s
+            && match frame.until {
+                None => true,
+                Some(c) if c.holds(attitude) => true,
+                Some(_) if t >= frame.duration_s + frame.timeout_s => {
+                    pose.copy_from_slice(&target);
+                    return Step::GaveUp;
+                }
+                Some(_) => false,
+            };
+        if !done {
+            let s = (t / frame.duration_s).clamp(0.0, 1.0);
             let w = s * s * (3.0 - 2.0 * s);
-            for ((q, a), b) in pose.iter_mut().zip(&previous).zip(&target) {
+            for ((q, a), b) in pose.iter_mut().zip(&run.from).zip(&target) {
                 *q = a + (b - a) * w;
             }
-            return Some(());
+            return Step::Playing;
         }
-        start += frame.duration_s;
-        previous = target;
+        // A timed frame ends at its nominal end; a sensed one when the condition came.
+        run.frame_started_s = if frame.until.is_some() {
+            now
+        } else {
+            run.frame_started_s + frame.duration_s
+        };
+        run.frame += 1;
+        run.from = target;
     }
-    pose.copy_from_slice(&previous);
-    None
+}
+
+/// Ankle and hip strategies against the torso pitch error during a balanced frame.
+fn balance(b: &GetUpBalance, a: &Attitude, lean_deg: f64, model: &RobotModel, pose: &mut [f64]) {
+    let error = a.pitch_deg - lean_deg;
+    let rate = a.pitch_rate_deg_s;
+    let limit = |v: f64| v.clamp(-b.max_deg, b.max_deg);
+    // Leaning too far forward: toes down (ankle +) and hips back (hip pitch +) push it back.
+    let ankle = limit(b.ankle_per_deg * error + b.ankle_per_gyro * rate);
+    let hip = limit(b.hip_per_deg * error + b.hip_per_gyro * rate);
+    for side in ["left", "right"] {
+        for (joint, offset) in [("ankle_pitch", ankle), ("hip_pitch", hip)] {
+            if let Some(id) = model.joint_id(&format!("{side}_{joint}")) {
+                let (lo, hi) = model.joints[id].limits_deg;
+                pose[id] = (pose[id] + offset).clamp(lo, hi);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(duration_s: f64, knee: f64, until: Option<Condition>) -> Keyframe {
+        Keyframe {
+            duration_s,
+            pose: BTreeMap::from([("left_knee".to_string(), knee)]),
+            until,
+            timeout_s: 0.5,
+            balance_pitch_deg: None,
+        }
+    }
+
+    fn start(model: &RobotModel) -> Run {
+        Run {
+            lying: Lying::Front,
+            frame: 0,
+            frame_started_s: 0.0,
+            from: vec![0.0; model.joints.len()],
+        }
+    }
+
+    fn pitched(deg: f64) -> Attitude {
+        Attitude {
+            pitch_deg: deg,
+            ..Attitude::default()
+        }
+    }
+
+    #[test]
+    fn a_sensed_frame_holds_until_its_condition_then_moves_on() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let knee = model.joint_id("left_knee").unwrap();
+        let motion = [
+            frame(0.2, 90.0, Some(Condition::TorsoPitchBelow(30.0))),
+            frame(0.2, 10.0, None),
+        ];
+        let mut run = start(&model);
+        let mut pose = vec![0.0; model.joints.len()];
+        let lying = pitched(80.0);
+        assert!(matches!(
+            step(&mut run, &motion, 0.1, &lying, &model, &mut pose),
+            Step::Playing
+        ));
+        assert!((pose[knee] - 45.0).abs() < 1e-9, "halfway: {}", pose[knee]);
+        // Past the duration but still lying: hold the target.
+        step(&mut run, &motion, 0.4, &lying, &model, &mut pose);
+        assert_eq!((run.frame, pose[knee]), (0, 90.0));
+        // The torso has come up: the next frame starts now, from the held target.
+        step(&mut run, &motion, 0.5, &pitched(20.0), &model, &mut pose);
+        assert_eq!((run.frame, pose[knee]), (1, 90.0));
+        step(&mut run, &motion, 0.6, &pitched(20.0), &model, &mut pose);
+        assert!((pose[knee] - 50.0).abs() < 1e-9, "halfway: {}", pose[knee]);
+        assert!(matches!(
+            step(&mut run, &motion, 0.8, &pitched(20.0), &model, &mut pose),
+            Step::Ended
+        ));
+    }
+
+    #[test]
+    fn a_condition_that_never_comes_gives_up() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let motion = [frame(0.2, 90.0, Some(Condition::UprightWithin(20.0)))];
+        let mut run = start(&model);
+        let mut pose = vec![0.0; model.joints.len()];
+        let lying = pitched(80.0);
+        assert!(matches!(
+            step(&mut run, &motion, 0.69, &lying, &model, &mut pose),
+            Step::Playing
+        ));
+        assert!(matches!(
+            step(&mut run, &motion, 0.71, &lying, &model, &mut pose),
+            Step::GaveUp
+        ));
+    }
+
+    #[test]
+    fn balance_pushes_back_against_a_forward_lean() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let b = GetUpBalance {
+            ankle_per_deg: 0.5,
+            ankle_per_gyro: 0.0,
+            hip_per_deg: 0.2,
+            hip_per_gyro: 0.0,
+            max_deg: 4.0,
+        };
+        let mut pose = vec![0.0; model.joints.len()];
+        balance(&b, &pitched(15.0), 5.0, &model, &mut pose);
+        let at = |n: &str| pose[model.joint_id(n).unwrap()];
+        assert_eq!(at("right_ankle_pitch"), 4.0, "clamped to max_deg");
+        assert!((at("left_hip_pitch") - 2.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn validation_names_a_bad_condition() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+        p.back[0].until = Some(Condition::UprightWithin(120.0));
+        let err = p.validate(&model).unwrap_err();
+        assert!(err.contains("get_up.back[0].until"), "{err}");
+    }
 }

@@ -3,9 +3,11 @@
 //!
 //! Spec lines: `side front|back`, `d <frame> <lo> <hi>` (a duration), `j <frame> <joint> <lo>
 //! <hi>` (both sides; the right one mirrored where its sign flips), `J <frame> <full joint
-//! name> <lo> <hi>` (one joint). Each candidate runs `PLACEMENTS` (default 2) varied
+//! name> <lo> <hi>` (one joint), `u <frame> <lo> <hi>` (the frame's `until` threshold, kind
+//! kept), `b <ankle_per_deg|ankle_per_gyro|hip_per_deg|hip_per_gyro> <lo> <hi>` (balance
+//! gain), `l <frame> <lo> <hi>` (the frame's `balance_pitch_deg`). Each candidate runs `PLACEMENTS` (default 2) varied
 //! placements; the best key frames so far are printed after every generation.
-use libero_skills::getup::{Keyframe, Lying};
+use libero_skills::getup::{Condition, Keyframe, Lying};
 use libero_skills::SkillParams;
 use libero_trial::cmaes::CmaEs;
 use libero_trial::getup_bench::{self, GetUpRun};
@@ -14,6 +16,9 @@ use libero_trial::Trial;
 enum Knob {
     Duration(usize),
     Joints(usize, Vec<(String, f64)>),
+    Until(usize),
+    Balance(String),
+    Lean(usize),
 }
 
 struct Dim {
@@ -62,6 +67,20 @@ fn parse_spec(text: &str) -> (Lying, Vec<Dim>) {
                 lo: num(3),
                 hi: num(4),
             }),
+            "u" | "l" => dims.push(Dim {
+                knob: if w[0] == "u" {
+                    Knob::Until(num(1) as usize)
+                } else {
+                    Knob::Lean(num(1) as usize)
+                },
+                lo: num(2),
+                hi: num(3),
+            }),
+            "b" => dims.push(Dim {
+                knob: Knob::Balance(w[1].to_string()),
+                lo: num(2),
+                hi: num(3),
+            }),
             other => panic!("unknown spec line `{other}`"),
         }
     }
@@ -75,9 +94,34 @@ fn motion(p: &mut SkillParams, side: Lying) -> &mut Vec<Keyframe> {
     }
 }
 
+fn threshold(c: &mut Condition) -> &mut f64 {
+    match c {
+        Condition::TorsoPitchAbove(v)
+        | Condition::TorsoPitchBelow(v)
+        | Condition::UprightWithin(v) => v,
+    }
+}
+
+fn balance_gain<'a>(p: &'a mut SkillParams, name: &str) -> &'a mut f64 {
+    let b = &mut p.get_up.balance;
+    match name {
+        "ankle_per_deg" => &mut b.ankle_per_deg,
+        "ankle_per_gyro" => &mut b.ankle_per_gyro,
+        "hip_per_deg" => &mut b.hip_per_deg,
+        "hip_per_gyro" => &mut b.hip_per_gyro,
+        other => panic!("unknown balance gain `{other}`"),
+    }
+}
+
 fn current(p: &mut SkillParams, side: Lying, d: &Dim) -> f64 {
+    if let Knob::Balance(name) = &d.knob {
+        return *balance_gain(p, name);
+    }
     let m = motion(p, side);
     match &d.knob {
+        Knob::Balance(_) => unreachable!("handled above"),
+        Knob::Until(k) => m[*k].until.as_mut().map_or(0.0, |c| *threshold(c)),
+        Knob::Lean(k) => m[*k].balance_pitch_deg.unwrap_or(0.0),
         Knob::Duration(k) => m[*k].duration_s,
         Knob::Joints(k, joints) => m[*k].pose.get(&joints[0].0).copied().unwrap_or(0.0),
     }
@@ -87,8 +131,19 @@ fn apply(base: &SkillParams, side: Lying, dims: &[Dim], x: &[f64]) -> SkillParam
     let mut p = base.clone();
     for (d, &u) in dims.iter().zip(x) {
         let v = d.lo + (d.hi - d.lo) * u.clamp(0.0, 1.0);
+        if let Knob::Balance(name) = &d.knob {
+            *balance_gain(&mut p, name) = v;
+            continue;
+        }
         let m = motion(&mut p, side);
         match &d.knob {
+            Knob::Balance(_) => unreachable!("handled above"),
+            Knob::Until(k) => {
+                if let Some(c) = m[*k].until.as_mut() {
+                    *threshold(c) = v;
+                }
+            }
+            Knob::Lean(k) => m[*k].balance_pitch_deg = Some(v),
             Knob::Duration(k) => m[*k].duration_s = v,
             Knob::Joints(k, joints) => {
                 for (name, sign) in joints {
@@ -111,7 +166,18 @@ fn score(run: &GetUpRun) -> f64 {
         .stood_at
         .filter(|&t| t < getup_bench::GET_UP_LIMIT_S)
         .map_or(0.0, |t| 1.0 + 0.2 * (getup_bench::GET_UP_LIMIT_S - t));
-    tail_mean + 0.5 * best + stood
+    // With PRONE_WEIGHT (for a back motion that rolls onto the front first): credit for the
+    // share of the episode the agent itself reports lying face down.
+    let prone_weight: f64 = std::env::var("PRONE_WEIGHT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0.0);
+    let prone = s
+        .iter()
+        .filter(|x| x.posture == libero_world::Posture::FallenFront)
+        .count() as f64
+        / s.len().max(1) as f64;
+    tail_mean + 0.5 * best + stood + prone_weight * prone
 }
 
 fn print_motion(p: &mut SkillParams, side: Lying) {
@@ -121,12 +187,20 @@ fn print_motion(p: &mut SkillParams, side: Lying) {
             .iter()
             .map(|(j, v)| format!("\"{j}\": {:.1}", v))
             .collect();
+        let mut extra = String::new();
+        if let Some(c) = f.until {
+            extra += &format!(", until: Some({c:?}), timeout_s: {:.2}", f.timeout_s);
+        }
+        if let Some(l) = f.balance_pitch_deg {
+            extra += &format!(", balance_pitch_deg: Some({l:.1})");
+        }
         println!(
-            "            Keyframe(duration_s: {:.2}, pose: {{{}}}),",
+            "            Keyframe(duration_s: {:.2}, pose: {{{}}}{extra}),",
             f.duration_s,
             pose.join(", ")
         );
     }
+    println!("            balance: {:?}", p.get_up.balance);
 }
 
 fn main() {
