@@ -100,6 +100,14 @@ fn principal_sign(axis: &[f64; 3], principal: usize, joint: &str) -> Result<f64,
 }
 
 impl LegIk {
+    /// The solvers for both legs, left first.
+    pub fn both(model: &RobotModel, kin: &Kinematics) -> Result<[Self; 2], KinematicsError> {
+        Ok([
+            Self::new(model, kin, Side::Left)?,
+            Self::new(model, kin, Side::Right)?,
+        ])
+    }
+
     /// Build the solver for `side` of `model` (T1, K1 or any NAO type).
     pub fn new(model: &RobotModel, kin: &Kinematics, side: Side) -> Result<Self, KinematicsError> {
         let prefix = side.prefix();

@@ -14,7 +14,7 @@ use crate::walk::balance::Attitude;
 use crate::walk::gait::{Foot, SolePlacement};
 use crate::walk::{Velocity, WalkParams};
 use approach::ApproachStep;
-use libero_model::kinematics::{Kinematics, KinematicsError, LegIk, Side};
+use libero_model::kinematics::{Kinematics, KinematicsError, LegIk};
 use libero_model::RobotModel;
 use libero_world::World;
 use motion::{MotionPlan, Phase};
@@ -80,10 +80,7 @@ pub struct Kick {
 impl Kick {
     pub fn new(model: &RobotModel) -> Result<Self, KinematicsError> {
         let kin = Kinematics::new(model);
-        let legs = [
-            LegIk::new(model, &kin, Side::Left)?,
-            LegIk::new(model, &kin, Side::Right)?,
-        ];
+        let legs = LegIk::both(model, &kin)?;
         Ok(Self {
             kin,
             legs,

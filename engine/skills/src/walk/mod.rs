@@ -14,7 +14,7 @@ pub mod walk_to;
 
 use balance::{corrections, Attitude};
 use gait::{Foot, Gait, SolePlacement, Step};
-use libero_model::kinematics::{Kinematics, KinematicsError, LegIk, Side};
+use libero_model::kinematics::{Kinematics, KinematicsError, LegIk};
 use libero_model::{JointId, RobotModel};
 use libero_world::World;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
@@ -112,10 +112,7 @@ const NOMINAL_CYCLE_S: f64 = 0.02;
 impl Walk {
     pub fn new(model: &RobotModel) -> Result<Self, KinematicsError> {
         let kin = Kinematics::new(model);
-        let legs = [
-            LegIk::new(model, &kin, Side::Left)?,
-            LegIk::new(model, &kin, Side::Right)?,
-        ];
+        let legs = LegIk::both(model, &kin)?;
         Ok(Self {
             joints: [
                 LegJoints::find(model, "left")?,
