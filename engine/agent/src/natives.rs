@@ -218,15 +218,12 @@ impl AgentHost<'_> {
             return Status::Success;
         }
         let ball = world.ball.position;
-        let [mx, my] = world.me.position;
         let [tx, ty] = world.to_own_frame([target.x, target.y]);
-        let yaw = world.me.yaw_deg.to_radians();
-        let (s, c) = yaw.sin_cos();
-        let (dx, dy) = (ball[0] - mx, ball[1] - my);
-        let direction = (ty - ball[1]).atan2(tx - ball[0]) - yaw;
+        let direction = (ty - ball[1]).atan2(tx - ball[0]) - world.me.yaw_deg.to_radians();
         let to_target = (tx - ball[0]).hypot(ty - ball[1]);
         self.intent.body = BodyIntent::Kick {
-            ball: [c * dx + s * dy, -s * dx + c * dy],
+            // Straight from the camera when fresh: the kick places the foot relative to the ball.
+            ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
             direction_deg: direction.sin().atan2(direction.cos()).to_degrees(),
             distance_m: if distance > 0.0 { distance } else { to_target },
         };

@@ -82,9 +82,6 @@ pub fn setups(count: usize, seed: u64, distance_m: f64) -> Vec<KickSetup> {
         .collect()
 }
 
-/// A sighting of the ball at most this old gives its robot-frame position directly [s].
-const FRESH_SIGHTING_S: f64 = 0.1;
-
 /// Script progress, shared with the measuring side.
 #[derive(Debug, Clone, Copy, Default)]
 struct Progress {
@@ -216,7 +213,7 @@ pub fn kick_once(
         }
         Some(Intent {
             body: BodyIntent::Kick {
-                ball: world.ball_relative(FRESH_SIGHTING_S),
+                ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
                 direction_deg: wrap_deg(setup.direction_deg - world.me.yaw_deg),
                 distance_m: setup.distance_m,
             },

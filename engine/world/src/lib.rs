@@ -49,6 +49,10 @@ pub struct GroundTruth {
     pub torso_orientation: Option<[f64; 4]>,
 }
 
+/// A ball sighting at most this old [s] is used as seen from the camera (vision arrives every
+/// second cycle).
+pub const FRESH_BALL_SIGHTING_S: f64 = 0.1;
+
 /// Everything the agent believes at the current cycle.
 #[derive(Debug, Clone)]
 pub struct World {
@@ -200,7 +204,7 @@ impl World {
     }
 
     /// The ball in the robot frame (x forwards, y left) [m]: the latest sighting when it is at
-    /// most `fresh_s` old (straight from the camera, so a wrong self-estimate does not matter),
+    /// most `fresh_s` old (callers without a reason of their own use [`FRESH_BALL_SIGHTING_S`]) (straight from the camera, so a wrong self-estimate does not matter),
     /// otherwise the field estimate seen from the self-estimate.
     pub fn ball_relative(&self, fresh_s: f64) -> [f64; 2] {
         match self.ball_seen_relative {
