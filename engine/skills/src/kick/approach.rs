@@ -98,6 +98,12 @@ pub fn step(
         }
         let v = p * a.align_gain_per_s;
         let scale = (v.norm() / a.align_speed_m_s).max(1.0);
+        // Small position errors are walked off at the slowest speed that still moves.
+        let scale = if v.norm() > 1e-9 {
+            scale.min(v.norm() / a.align_min_speed_m_s)
+        } else {
+            scale
+        };
         return ApproachStep::Align(Velocity {
             forward_m_s: v.x / scale,
             sideways_m_s: v.y / scale,
@@ -120,7 +126,13 @@ pub fn step(
         b + dir * radius
     };
     let v = walk_to::velocity_towards([target.x, target.y], heading_error, w).unwrap_or_default();
-    ApproachStep::Walk(v.capped(Some(a.approach_speed_m_s)))
+    let v = v.capped(Some(a.approach_speed_m_s));
+    ApproachStep::Walk(Velocity {
+        turn_deg_s: v
+            .turn_deg_s
+            .clamp(-a.approach_turn_deg_s, a.approach_turn_deg_s),
+        ..v
+    })
 }
 
 #[cfg(test)]
