@@ -191,6 +191,13 @@ pub fn kick_once(
             return Some(look);
         }
         if t < LOOK_S || (p.ball_start.is_none() && !at_place) {
+            if t >= LOOK_S + 5.0 {
+                log::warn!(
+                    "kick bench: the ball is not where it was placed ({:?} instead of {:?}); giving up",
+                    truth_ball,
+                    setup.ball
+                );
+            }
             return (t < LOOK_S + 5.0).then_some(look);
         }
         if p.ball_start.is_none() {

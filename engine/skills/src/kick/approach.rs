@@ -17,8 +17,8 @@ use nalgebra::{Rotation2, Vector2};
 pub enum ApproachStep {
     /// Walk with this command.
     Walk(Velocity),
-    /// Near the kicking place but not within the kick's tolerances: this small-step command
-    /// brings it closer.
+    /// Near the kicking place (within `look_within_m` and `look_within_deg`) but not within the
+    /// kick's tolerances: this small-step command brings it closer.
     Align(Velocity),
     /// At the kicking place (within the tolerances).
     Ready,
@@ -70,11 +70,17 @@ fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>) -> f64 {
 /// Angle of the arc step taken around the ball per waypoint [deg].
 const ARC_STEP_DEG: f64 = 40.0;
 
-/// This cycle's approach command.
+/// How far the look zone widens once the robot has stopped in it: walking estimates jitter,
+/// and a robot on its edge would otherwise start and stop walking without end.
+const LOOK_ZONE_HYSTERESIS: f64 = 2.0;
+
+/// This cycle's approach command. `looking`: the robot has stopped to look near the place
+/// (the look zone is then wider).
 pub fn step(
     ball: [f64; 2],
     direction_deg: f64,
     foot: Foot,
+    looking: bool,
     a: &KickApproach,
     w: &WalkParams,
 ) -> ApproachStep {
@@ -96,6 +102,9 @@ pub fn step(
         {
             return ApproachStep::Ready;
         }
+        let widen = if looking { LOOK_ZONE_HYSTERESIS } else { 1.0 };
+        let coarse =
+            p.norm() > a.look_within_m * widen || heading_error.abs() > a.look_within_deg * widen;
         let v = p * a.align_gain_per_s;
         let scale = (v.norm() / a.align_speed_m_s).max(1.0);
         // Small position errors are walked off at the slowest speed that still moves.
@@ -104,12 +113,18 @@ pub fn step(
         } else {
             scale
         };
-        return ApproachStep::Align(Velocity {
+        let v = Velocity {
             forward_m_s: v.x / scale,
             sideways_m_s: v.y / scale,
             turn_deg_s: (a.align_turn_gain_per_s * heading_error)
                 .clamp(-w.max_turn_deg_s, w.max_turn_deg_s),
-        });
+        };
+        // Far from the tolerances, walking estimates are good enough: align on the move.
+        return if coarse {
+            ApproachStep::Walk(v)
+        } else {
+            ApproachStep::Align(v)
+        };
     }
     let target = if segment_distance(robot, p, b) >= a.clearance_m {
         p
@@ -163,7 +178,7 @@ mod tests {
     fn from_in_front_of_the_ball_the_path_goes_around_it() {
         let (a, w) = params();
         // Ball 0.6 m ahead, to be kicked back towards the robot: the place is behind the ball.
-        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, &a, &w) else {
+        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, false, &a, &w) else {
             panic!("not ready from the wrong side");
         };
         // Not straight at the ball: sideways first.
@@ -171,7 +186,7 @@ mod tests {
             v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0,
             "{v:?}"
         );
-        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, &a, &w) else {
+        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, false, &a, &w) else {
             panic!("not ready 1 m away");
         };
         assert!(v.forward_m_s > 0.0, "{v:?}");
@@ -181,9 +196,24 @@ mod tests {
     fn at_the_place_it_is_ready() {
         let (a, w) = params();
         let ball = [a.ball_ahead_m, a.ball_beside_m];
-        assert_eq!(step(ball, 0.0, Foot::Left, &a, &w), ApproachStep::Ready);
+        assert_eq!(
+            step(ball, 0.0, Foot::Left, false, &a, &w),
+            ApproachStep::Ready
+        );
+        // Slightly off: stop, look and correct; further off: align on the move.
+        let slightly = 0.5 * (a.ready_deg + a.look_within_deg);
         assert!(matches!(
-            step(ball, 20.0, Foot::Left, &a, &w),
+            step(ball, slightly, Foot::Left, false, &a, &w),
+            ApproachStep::Align(v) if v.turn_deg_s > 0.0
+        ));
+        let beyond = a.look_within_deg + 2.0;
+        assert!(matches!(
+            step(ball, beyond, Foot::Left, false, &a, &w),
+            ApproachStep::Walk(v) if v.turn_deg_s > 0.0
+        ));
+        // Once stopped to look, the same error is corrected from standing.
+        assert!(matches!(
+            step(ball, beyond, Foot::Left, true, &a, &w),
             ApproachStep::Align(v) if v.turn_deg_s > 0.0
         ));
         assert_eq!(natural_foot(ball, 0.0), Foot::Left);

@@ -74,6 +74,12 @@ pub struct Kick {
     still_since: Option<f64>,
     /// A correction walk near the kicking place runs until then.
     correcting_until: Option<f64>,
+    /// Stopped (or correcting) near the kicking place.
+    looking: bool,
+    /// Looks at the kicking place since the last free walk that did not find it ready.
+    failed_looks: u32,
+    /// Stepping back from the kicking place for a fresh approach until then.
+    retreating_until: Option<f64>,
     angles: Vec<f64>,
 }
 
@@ -89,6 +95,9 @@ impl Kick {
             running: None,
             still_since: None,
             correcting_until: None,
+            looking: false,
+            failed_looks: 0,
+            retreating_until: None,
             angles: vec![0.0; model.joints.len()],
         })
     }
@@ -119,6 +128,9 @@ impl Kick {
         self.running = None;
         self.still_since = None;
         self.correcting_until = None;
+        self.looking = false;
+        self.failed_looks = 0;
+        self.retreating_until = None;
     }
 
     /// One cycle of a kick request. `walk_stepping`: the walk is still making steps;
@@ -160,10 +172,28 @@ impl Kick {
         // Near the place the estimates taken while walking are too rough for the kick's
         // tolerances (the walk sways the camera): stop, look while standing, then either kick
         // or walk a short correction and look again.
-        let step = approach::step(request.ball, request.direction_deg, foot, a, w);
+        if let Some(until) = self.retreating_until {
+            if now < until {
+                return KickOutput::Walk(Some(Velocity {
+                    forward_m_s: -a.align_speed_m_s,
+                    ..Velocity::default()
+                }));
+            }
+            self.retreating_until = None;
+        }
+        let step = approach::step(
+            request.ball,
+            request.direction_deg,
+            foot,
+            self.looking,
+            a,
+            w,
+        );
+        self.looking = !matches!(step, ApproachStep::Walk(_));
         let correction = match step {
             ApproachStep::Walk(v) => {
                 log::trace!("kick: approach {v:?}");
+                self.failed_looks = 0;
                 self.correcting_until = None;
                 self.still_since = None;
                 return KickOutput::Walk(Some(v));
@@ -195,8 +225,16 @@ impl Kick {
                     request.ball[1],
                     request.direction_deg
                 );
-                self.correcting_until = Some(now + a.correction_s);
                 self.still_since = None;
+                self.failed_looks += 1;
+                // Short corrections that do not get there (small sideways steps barely move the
+                // robot) are given up for a fresh approach, which aligns on the move.
+                if self.failed_looks >= a.looks_before_retreat {
+                    self.failed_looks = 0;
+                    self.retreating_until = Some(now + a.retreat_s);
+                    return KickOutput::Walk(None);
+                }
+                self.correcting_until = Some(now + a.correction_s);
                 KickOutput::Walk(Some(correction))
             }
             ApproachStep::Ready => {
@@ -475,6 +513,46 @@ mod tests {
         let mut straight = p.kick.clone();
         straight.long.roll_out_m = 0.0;
         assert_eq!(aimed_for_curve(5.0, long, &world, &straight), 5.0);
+    }
+
+    #[test]
+    fn corrections_that_do_not_get_there_end_in_a_step_back() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let a = &k.approach;
+        let mut kick = Kick::new(&t1).unwrap();
+        // Just outside the across tolerance, and the robot never moves.
+        let req = KickRequest {
+            ball: [a.ball_ahead_m, a.ball_beside_m + 1.5 * a.ready_across_m],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        let mut t = 0.0;
+        let mut corrections = 0;
+        let back = loop {
+            let out = kick.update(req, t, false, 0.0, k, w);
+            match out {
+                KickOutput::Walk(Some(v)) if v.forward_m_s < 0.0 && v.sideways_m_s == 0.0 => {
+                    break v;
+                }
+                KickOutput::Walk(Some(v)) => {
+                    assert!(v.sideways_m_s > 0.0, "{v:?}");
+                    corrections += 1;
+                }
+                KickOutput::Motion => panic!("kicked out of tolerance at {t}"),
+                _ => {}
+            }
+            t += 0.02;
+            assert!(t < 60.0, "no step back");
+        };
+        assert!(back.forward_m_s <= -a.align_min_speed_m_s, "{back:?}");
+        let per_look = (a.correction_s / 0.02).round() as usize;
+        assert_eq!(
+            corrections,
+            (a.looks_before_retreat as usize - 1) * per_look,
+            "the correction walks before stepping back"
+        );
     }
 
     #[test]

@@ -45,6 +45,10 @@ pub struct KickApproach {
     /// Slowest alignment walk [m/s]: slower commands barely move the robot (the first steps of
     /// a walk sway more than they travel), so small errors are walked off at this speed.
     pub align_min_speed_m_s: f64,
+    /// Within these errors of the kicking place the robot stops, looks and corrects in short
+    /// walks; beyond them it aligns on the move (stopping to look at every step is slow).
+    pub look_within_m: f64,
+    pub look_within_deg: f64,
     /// The kick starts when the robot has stopped within these errors of the kicking place:
     /// along the kick direction [m], across it [m], heading [deg].
     pub ready_along_m: f64,
@@ -53,6 +57,10 @@ pub struct KickApproach {
     /// Near the place: how long to stand still and look before judging the errors [s], and
     /// how long each correction walk lasts [s].
     pub look_s: f64,
+    /// After this many looks at the kicking place that found it not ready, the robot steps
+    /// back for `retreat_s` (at `align_speed_m_s`) and approaches afresh.
+    pub looks_before_retreat: u32,
+    pub retreat_s: f64,
     pub correction_s: f64,
     /// Standing still means also a torso roll and pitch rate below this [deg/s]: the look
     /// (and so the kick) waits until the sway from the last steps has died down.
@@ -156,10 +164,19 @@ impl KickParams {
             0.0,
             a.align_speed_m_s,
         )?;
+        in_range(&p("look_within_m"), a.look_within_m, 0.0, 1.0)?;
+        in_range(&p("look_within_deg"), a.look_within_deg, 0.0, 90.0)?;
         in_range(&p("ready_along_m"), a.ready_along_m, 0.001, 0.5)?;
         in_range(&p("ready_across_m"), a.ready_across_m, 0.001, 0.5)?;
         in_range(&p("ready_deg"), a.ready_deg, 0.1, 45.0)?;
         in_range(&p("look_s"), a.look_s, 0.0, 5.0)?;
+        in_range(
+            &p("looks_before_retreat"),
+            f64::from(a.looks_before_retreat),
+            1.0,
+            100.0,
+        )?;
+        in_range(&p("retreat_s"), a.retreat_s, 0.0, 10.0)?;
         in_range(&p("correction_s"), a.correction_s, 0.05, 5.0)?;
         in_range(&p("calm_rate_deg_s"), a.calm_rate_deg_s, 0.1, 100.0)?;
         in_range(&p("look_down_deg"), a.look_down_deg, -90.0, 90.0)?;
