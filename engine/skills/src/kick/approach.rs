@@ -135,7 +135,7 @@ pub fn step(
         let to = p - b;
         let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
         let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
-        let radius = a.clearance_m * 1.3;
+        let radius = a.circle_radius_m;
         let dir =
             Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
         b + dir * radius

@@ -30,6 +30,9 @@ pub struct KickApproach {
     /// Paths to the kicking place keep the torso at least this far from the ball centre [m];
     /// otherwise the robot walks around the ball on a circle of this radius.
     pub clearance_m: f64,
+    /// Radius of the circle walked around the ball [m] (torso to ball centre): wider than the
+    /// clearance, since turning and side-stepping feet reach out beyond the torso.
+    pub circle_radius_m: f64,
     /// Speed cap while walking to the kicking place [m/s].
     pub approach_speed_m_s: f64,
     /// Fastest turn while walking there [deg/s]: the walk's fastest turn on top of walking
@@ -147,6 +150,7 @@ impl KickParams {
         in_range(&p("ball_ahead_m"), a.ball_ahead_m, 0.05, 1.0)?;
         in_range(&p("ball_beside_m"), a.ball_beside_m, 0.0, 0.3)?;
         in_range(&p("clearance_m"), a.clearance_m, 0.1, 2.0)?;
+        in_range(&p("circle_radius_m"), a.circle_radius_m, a.clearance_m, 3.0)?;
         in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
         in_range(&p("approach_turn_deg_s"), a.approach_turn_deg_s, 1.0, 360.0)?;
         in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;
