@@ -143,6 +143,11 @@ struct Progress {
     fell: bool,
     contact: Option<Contact>,
     launch: Option<[f64; 3]>,
+    /// For a kick that is not made: whether the ball was ever seen, the last kick state and
+    /// where the robot was.
+    ball_seen: bool,
+    last_state: Option<KickState>,
+    last_torso: Option<[f64; 3]>,
 }
 
 /// One kick, giving up `limit_s` after the request.
@@ -228,6 +233,8 @@ pub fn kick_once(
         }
         let since_request = t - LOOK_S;
         let kick = status.lock().map(|s| s.kick).unwrap_or(KickState::Idle);
+        p.last_state = Some(kick);
+        p.last_torso = world.truth.torso_position;
         if kick == KickState::Kicking && p.kick_started_at.is_none() {
             p.kick_started_at = Some(since_request);
             p.ball_at_kick = truth_ball;
@@ -271,6 +278,7 @@ pub fn kick_once(
             .ball
             .last_seen_time
             .is_some_and(|at| at > placed_world_time + 0.1);
+        p.ball_seen |= seen;
         if !seen {
             // Not seen yet: turn on the spot, head panning, until it is.
             return Some(Intent {
@@ -301,6 +309,15 @@ pub fn kick_once(
         },
     )?;
     let p = *progress.lock().map_err(|_| TrialError::Empty)?;
+    if p.kick_started_at.is_none() {
+        log::info!(
+            "kick bench: no kick: ball seen {}, last kick state {:?}, torso at {:?}, fell {}",
+            p.ball_seen,
+            p.last_state,
+            p.last_torso,
+            p.fell
+        );
+    }
     let mut outcome = KickOutcome {
         kicked: p.kick_started_at.is_some(),
         time_to_kick_s: p.kick_started_at,
