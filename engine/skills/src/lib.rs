@@ -223,10 +223,28 @@ impl Skills {
         } else {
             ActiveSkill::Stand
         };
-        if kick.is_some() {
-            // Keep the ball in view near the feet.
+        if let (Some(_), BodyIntent::Kick { ball, .. }) = (kick, intent.body) {
+            // Keep the ball in view: while walking round it, it is beside the robot, and an
+            // estimate not refreshed by sightings drifts (a bump, a phantom chase). During the
+            // kick motion the head stays still, looking down at the feet.
+            let a = &self.params.kick.approach;
+            let (yaw, pitch) = if self.kick.state() == KickState::Kicking {
+                (0.0, a.look_down_deg)
+            } else {
+                let distance = ball[0].hypot(ball[1]).max(0.01);
+                (
+                    ball[1].atan2(ball[0]).to_degrees(),
+                    a.eye_height_m
+                        .atan2(distance)
+                        .to_degrees()
+                        .min(a.look_down_deg),
+                )
+            };
+            if let Some(id) = model.joint_id("head_yaw") {
+                self.pose[id] = model.clamp_deg(id, yaw);
+            }
             if let Some(id) = model.joint_id("head_pitch") {
-                self.pose[id] = model.clamp_deg(id, self.params.kick.approach.look_down_deg);
+                self.pose[id] = model.clamp_deg(id, pitch);
             }
         }
         self.switch_to(active, world.time);

@@ -68,8 +68,12 @@ pub struct KickApproach {
     /// Standing still means also a torso roll and pitch rate below this [deg/s]: the look
     /// (and so the kick) waits until the sway from the last steps has died down.
     pub calm_rate_deg_s: f64,
-    /// Head pitch while approaching, so the ball stays in view near the feet [deg].
+    /// The head looks at the ball while approaching, pitched down at most this far (and this
+    /// far during the kick motion) [deg].
     pub look_down_deg: f64,
+    /// Height of the camera above the ground while walking [m], for pitching the head at the
+    /// ball.
+    pub eye_height_m: f64,
 }
 
 /// One kick motion, in phases: shift the weight onto the support leg, lift and wind up the
@@ -184,6 +188,7 @@ impl KickParams {
         in_range(&p("correction_s"), a.correction_s, 0.05, 5.0)?;
         in_range(&p("calm_rate_deg_s"), a.calm_rate_deg_s, 0.1, 100.0)?;
         in_range(&p("look_down_deg"), a.look_down_deg, -90.0, 90.0)?;
+        in_range(&p("eye_height_m"), a.eye_height_m, 0.1, 3.0)?;
         // A path ending at the kicking place must be able to keep the clearance.
         let place_distance = a.ball_ahead_m.hypot(a.ball_beside_m);
         if a.clearance_m >= place_distance {
