@@ -60,6 +60,8 @@ const LAUNCH_M: f64 = 0.5;
 const BALL_Z_M: f64 = 0.11;
 /// Turning rate while searching for a ball not yet seen [deg/s].
 const SEARCH_TURN_DEG_S: f64 = 40.0;
+/// A ball unseen this long is searched for again [s] (the default `lost_after` of `KickTo`).
+const LOST_AFTER_S: f64 = 4.0;
 
 /// `count` kicks from all round the ball, seeded: ball spots, robot places and headings, and
 /// kick directions vary; each kick stays well inside the field.
@@ -279,8 +281,15 @@ pub fn kick_once(
             .last_seen_time
             .is_some_and(|at| at > placed_world_time + 0.1);
         p.ball_seen |= seen;
-        if !seen {
-            // Not seen yet: turn on the spot, head panning, until it is.
+        // Unseen for long, as a behavior tree's `KickTo` gives up (its `lost_after`): the
+        // estimate alone may have drifted off (a chase after a phantom ball was seen).
+        let lost = world
+            .ball
+            .last_seen_time
+            .is_none_or(|at| world.time - at > LOST_AFTER_S);
+        let approaching = matches!(kick, KickState::Idle | KickState::Approaching);
+        if !seen || (lost && approaching) {
+            // Not seen (lately): turn on the spot, head panning, until it is.
             return Some(Intent {
                 body: BodyIntent::Walk {
                     forward_m_s: 0.0,
