@@ -133,18 +133,18 @@ fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
             distance_m: 8.0,
         },
     ];
-    // Measured (24 kicks: 6 runs of this test and 6 with `CI_SIDES=1 kick_probe`): no falls,
-    // 3.7–8.5 m, |direction| ≤ 15.2°, mean per run of three ≥ 4.7 m; a later CI run kicked
-    // 6.4 m at 20.2° (the foot-side direction bias, see NOTES.md), hence 25° for the direction.
+    // Measured (session 3, after the contact-geometry and curve-aim work; 12 kicks of
+    // `CI_SIDES=1 kick_probe`): no falls, 9.6–14.4 m, |direction| ≤ 6.1°. Kicks along a field
+    // axis (0°, 90°) are the least precise: there the ball's curve amplifies launch errors.
     let mut good = 0;
     let mut travelled = 0.0;
     for s in setups {
         let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
         eprintln!("{s:?}: {o:?}");
         if o.kicked && !o.fell {
-            assert!(o.distance_m >= 3.0, "kicked only {:.2} m", o.distance_m);
+            assert!(o.distance_m >= 7.0, "kicked only {:.2} m", o.distance_m);
             assert!(
-                o.direction_error_deg.abs() <= 25.0,
+                o.direction_error_deg.abs() <= 12.0,
                 "direction off by {:.1}°",
                 o.direction_error_deg
             );
@@ -154,5 +154,5 @@ fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
     }
     assert!(good >= 2, "{good} of 3 kicks made without a fall");
     let mean = travelled / f64::from(good);
-    assert!(mean >= 4.0, "kicks made travelled {mean:.2} m on average");
+    assert!(mean >= 9.0, "kicks made travelled {mean:.2} m on average");
 }

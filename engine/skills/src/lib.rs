@@ -153,7 +153,12 @@ impl Skills {
             } => Some(self.kick.update(
                 kick::KickRequest {
                     ball,
-                    direction_deg,
+                    direction_deg: kick::aimed_for_curve(
+                        direction_deg,
+                        distance_m,
+                        world,
+                        &self.params.kick,
+                    ),
                     distance_m,
                 },
                 world.time,

@@ -231,6 +231,7 @@ mod tests {
         assert!(e.contains("kick.long.swing_s = 0 is outside"), "{e}");
         let mut p = SkillParams::builtin(&t1).unwrap();
         p.kick.approach.clearance_m = 0.5;
+        p.kick.approach.circle_radius_m = 0.6;
         let e = p.validate(&t1).unwrap_err().to_string();
         assert!(e.contains("kick.approach.clearance_m"), "{e}");
         let shipped = include_str!("../params/t1.ron");

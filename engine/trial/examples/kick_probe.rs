@@ -1,8 +1,10 @@
 //! Experiment helper: kicks from the kicking place (or from around the ball) and their outcome.
 //! `cargo run --release -p libero-trial --example kick_probe -- <count> <distance_m> [params.ron]`
-//! `CI_SIDES=1`: the live test's three approaches, repeated. `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`.
+//! `CI_SIDES=1`: the live test's three approaches, repeated. `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`;
+//! `PLACE=1`: seeded setups at the kicking place within the approach's tolerances;
+//! `ONLY=i,j`: only those setups.
 use libero_skills::SkillParams;
-use libero_trial::kick_bench::{kick_once, setups, KickSetup, KickSummary};
+use libero_trial::kick_bench::{kick_once, setups, setups_at_place, KickSetup, KickSummary};
 use libero_trial::Trial;
 
 fn main() {
@@ -22,6 +24,8 @@ fn main() {
         .unwrap_or(1);
     let list: Vec<KickSetup> = if std::env::var("AROUND").is_ok() {
         setups(count, seed, distance)
+    } else if std::env::var("PLACE").is_ok() {
+        setups_at_place(count, seed, distance, &params.kick.approach)
     } else if std::env::var("CI_SIDES").is_ok() {
         // The three approaches of the live test `long_kicks_from_three_sides_...`.
         let s = |robot: [f64; 3], ball: [f64; 2], direction_deg: f64| KickSetup {
@@ -64,10 +68,44 @@ fn main() {
             })
             .collect()
     };
+    // `ONLY=3,7`: just these setups of the list.
+    let only: Option<Vec<usize>> = std::env::var("ONLY")
+        .ok()
+        .map(|v| v.split(',').filter_map(|i| i.trim().parse().ok()).collect());
+    let list: Vec<KickSetup> = list
+        .into_iter()
+        .enumerate()
+        .filter(|(i, _)| only.as_ref().is_none_or(|o| o.contains(i)))
+        .map(|(_, s)| s)
+        .collect();
     let mut outcomes = Vec::new();
     for s in list {
         let o = kick_once(&mut trial, &params, s, 40.0).unwrap();
-        println!("{s:?}\n  -> {o:?}");
+        let c = o.contact.map_or(String::from("no contact"), |c| {
+            format!(
+                "{} foot yaw {:+.1}° swing {:+.1}° at {:.1} m/s, torso yaw {:+.1}°, ball in foot ({:+.3}, {:+.3}, {:+.3}) feet at start {:+.3?}",
+                if c.left { "left" } else { "right" },
+                c.foot_yaw_deg - s.direction_deg,
+                c.swing_deg - s.direction_deg,
+                c.toe_speed_m_s,
+                c.torso_yaw_deg - s.direction_deg,
+                c.ball_in_foot[0],
+                c.ball_in_foot[1],
+                c.ball_in_foot[2],
+                c.start_feet
+            )
+        });
+        println!(
+            "towards {:+6.1}° {:5.2} m {:+6.1}° (launch {:+5.1}°) kicked {} after {:4.1} s bumped {} fell {} | {c}",
+            s.direction_deg,
+            o.distance_m,
+            o.direction_error_deg,
+            o.launch_error_deg.unwrap_or(f64::NAN),
+            o.kicked,
+            o.time_to_kick_s.unwrap_or(f64::NAN),
+            o.bumped,
+            o.fell
+        );
         outcomes.push(o);
     }
     println!("{:?}", KickSummary::of(&outcomes));

@@ -7,6 +7,10 @@ fn main() {
     let a: Vec<String> = std::env::args().collect();
     let num = |i: usize, d: f64| a.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let (f, s, w, secs) = (num(1, 0.3), num(2, 0.0), num(3, 0.0), num(4, 10.0));
+    let hold: f64 = std::env::var("HOLD")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.0);
     let mut trial = Trial::start().unwrap();
     let model = trial.model().clone();
     let params = match a.get(5) {
@@ -33,13 +37,19 @@ fn main() {
                 ],
                 lying: None,
                 settle_s: 1.0,
+                // `HOLD=s`: stand this long after the command (how a short walk ends).
                 script: move |_w: &libero_world::World, t: f64| {
-                    (t < secs).then(|| Intent {
-                        body: BodyIntent::Walk {
+                    let body = if t < secs {
+                        BodyIntent::Walk {
                             forward_m_s: f,
                             sideways_m_s: s,
                             turn_deg_s: w,
-                        },
+                        }
+                    } else {
+                        BodyIntent::Stand
+                    };
+                    (t < secs + hold).then(|| Intent {
+                        body,
                         ..Default::default()
                     })
                 },

@@ -7,6 +7,8 @@
 
 use crate::cmaes::Rng;
 use crate::episode::{Episode, Trial, TrialError, FALLEN_TORSO_Z_M};
+use crate::kick_contact::{Contact, ContactTracer};
+use libero_skills::kick::KickApproach;
 use libero_skills::{BodyIntent, HeadIntent, Intent, KickState, SkillParams};
 use libero_world::geometry::wrap_deg;
 use libero_world::World;
@@ -32,13 +34,18 @@ pub struct KickOutcome {
     pub kicked: bool,
     /// Seconds from the kick request until the kick motion started.
     pub time_to_kick_s: Option<f64>,
-    /// Ball travel from where it lay to where it stopped [m].
+    /// Ball travel from where it lay when the kick motion began to where it stopped [m].
     pub distance_m: f64,
     /// Direction of that travel minus the requested direction [deg].
     pub direction_error_deg: f64,
     /// The ball moved more than a few centimetres before the kick motion began.
     pub bumped: bool,
     pub fell: bool,
+    /// Where the foot met the ball (ground truth and measured joint angles).
+    pub contact: Option<Contact>,
+    /// Direction of the ball's first `LAUNCH_M` of travel minus the requested direction [deg]
+    /// (the rest of the difference to `direction_error_deg` is the ball curving as it rolls).
+    pub launch_error_deg: Option<f64>,
 }
 
 /// Seconds standing after placement, head panning, so the ball is seen and localization settles.
@@ -47,6 +54,8 @@ const LOOK_S: f64 = 1.5;
 const BALL_STILL_S: f64 = 1.0;
 /// Ball movement before the kick that counts as bumping it [m].
 const BUMP_M: f64 = 0.05;
+/// The ball's launch direction is taken over this much travel [m].
+const LAUNCH_M: f64 = 0.5;
 /// Ball placement height (its radius: resting on the ground) [m].
 const BALL_Z_M: f64 = 0.11;
 /// Turning rate while searching for a ball not yet seen [deg/s].
@@ -82,6 +91,47 @@ pub fn setups(count: usize, seed: u64, distance_m: f64) -> Vec<KickSetup> {
         .collect()
 }
 
+/// `count` kicks that start at the kicking place, as an approach would end: the robot stands
+/// near it within the approach's tolerances (`ready_along_m`, `ready_across_m`, `ready_deg`,
+/// seeded), either foot, any field direction. Quick to run (no walking), so the kick motion
+/// itself can be measured and optimised.
+pub fn setups_at_place(
+    count: usize,
+    seed: u64,
+    distance_m: f64,
+    approach: &KickApproach,
+) -> Vec<KickSetup> {
+    let mut rng = Rng::new(seed);
+    (0..count)
+        .map(|k| {
+            let direction_deg = 360.0 * rng.uniform() - 180.0;
+            let d = direction_deg.to_radians();
+            let ball = [
+                -4.0 * d.cos() + 6.0 * rng.uniform() - 3.0,
+                -4.0 * d.sin() + 4.0 * rng.uniform() - 2.0,
+            ];
+            let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let mut off = |tolerance: f64| tolerance * (2.0 * rng.uniform() - 1.0);
+            let along = approach.ball_ahead_m + off(approach.ready_along_m);
+            let across = side * approach.ball_beside_m + off(approach.ready_across_m);
+            let heading = direction_deg + off(approach.ready_deg);
+            let h = heading.to_radians();
+            // The ball sits `along` ahead and `across` to the side of the torso.
+            let robot = [
+                ball[0] - along * h.cos() + across * h.sin(),
+                ball[1] - along * h.sin() - across * h.cos(),
+                heading,
+            ];
+            KickSetup {
+                robot,
+                ball,
+                direction_deg,
+                distance_m,
+            }
+        })
+        .collect()
+}
+
 /// Script progress, shared with the measuring side.
 #[derive(Debug, Clone, Copy, Default)]
 struct Progress {
@@ -91,6 +141,13 @@ struct Progress {
     done_at: Option<f64>,
     ball_end: Option<[f64; 3]>,
     fell: bool,
+    contact: Option<Contact>,
+    launch: Option<[f64; 3]>,
+    /// For a kick that is not made: whether the ball was ever seen, the last kick state and
+    /// where the robot was.
+    ball_seen: bool,
+    last_state: Option<KickState>,
+    last_torso: Option<[f64; 3]>,
 }
 
 /// One kick, giving up `limit_s` after the request.
@@ -112,6 +169,7 @@ pub fn kick_once(
     // Server time of the last placement command: sightings before it show the old spot.
     let mut placed_world_time = f64::INFINITY;
     let mut last_ball: Option<([f64; 3], f64)> = None;
+    let mut tracer = ContactTracer::new(trial.model(), params.kick.toe_ahead_of_ankle_m);
     let script = move |world: &World, t: f64| -> Option<Intent> {
         let truth_ball = monitor.lock().ok().and_then(|m| m.snapshot().ball);
         let mut p = shared.lock().ok()?;
@@ -138,6 +196,13 @@ pub fn kick_once(
             return Some(look);
         }
         if t < LOOK_S || (p.ball_start.is_none() && !at_place) {
+            if t >= LOOK_S + 5.0 {
+                log::warn!(
+                    "kick bench: the ball is not where it was placed ({:?} instead of {:?}); giving up",
+                    truth_ball,
+                    setup.ball
+                );
+            }
             return (t < LOOK_S + 5.0).then_some(look);
         }
         if p.ball_start.is_none() {
@@ -168,9 +233,22 @@ pub fn kick_once(
         }
         let since_request = t - LOOK_S;
         let kick = status.lock().map(|s| s.kick).unwrap_or(KickState::Idle);
+        p.last_state = Some(kick);
+        p.last_torso = world.truth.torso_position;
         if kick == KickState::Kicking && p.kick_started_at.is_none() {
             p.kick_started_at = Some(since_request);
             p.ball_at_kick = truth_ball;
+        }
+        if kick == KickState::Kicking || (kick == KickState::Done && p.contact.is_none()) {
+            if let Some(tracer) = tracer.as_mut() {
+                tracer.observe(world, truth_ball);
+                p.contact = tracer.contact();
+            }
+        }
+        if let (Some(at), Some(b), None) = (p.ball_at_kick, truth_ball, p.launch) {
+            if (b[0] - at[0]).hypot(b[1] - at[1]) > LAUNCH_M {
+                p.launch = Some(b);
+            }
         }
         if kick == KickState::Done && p.done_at.is_none() {
             p.done_at = Some(t);
@@ -200,6 +278,7 @@ pub fn kick_once(
             .ball
             .last_seen_time
             .is_some_and(|at| at > placed_world_time + 0.1);
+        p.ball_seen |= seen;
         if !seen {
             // Not seen yet: turn on the spot, head panning, until it is.
             return Some(Intent {
@@ -230,16 +309,31 @@ pub fn kick_once(
         },
     )?;
     let p = *progress.lock().map_err(|_| TrialError::Empty)?;
+    if p.kick_started_at.is_none() {
+        log::info!(
+            "kick bench: no kick: ball seen {}, last kick state {:?}, torso at {:?}, fell {}",
+            p.ball_seen,
+            p.last_state,
+            p.last_torso,
+            p.fell
+        );
+    }
     let mut outcome = KickOutcome {
         kicked: p.kick_started_at.is_some(),
         time_to_kick_s: p.kick_started_at,
         fell: p.fell || rec.samples.iter().any(|s| s.position[2] < FALLEN_TORSO_Z_M),
+        contact: p.contact,
+        launch_error_deg: p.ball_at_kick.zip(p.launch).map(|(a, b)| {
+            wrap_deg((b[1] - a[1]).atan2(b[0] - a[0]).to_degrees() - setup.direction_deg)
+        }),
         ..Default::default()
     };
     if let (Some(start), Some(at_kick)) = (p.ball_start, p.ball_at_kick) {
         outcome.bumped = (at_kick[0] - start[0]).hypot(at_kick[1] - start[1]) > BUMP_M;
     }
-    if let (Some(start), Some(end)) = (p.ball_start, p.ball_end) {
+    // A bump during the approach moves the ball; the kick is measured from where it lay when
+    // the kick motion began (bumps are counted separately).
+    if let (Some(start), Some(end)) = (p.ball_at_kick.or(p.ball_start), p.ball_end) {
         let (dx, dy) = (end[0] - start[0], end[1] - start[1]);
         outcome.distance_m = dx.hypot(dy);
         outcome.direction_error_deg = wrap_deg(dy.atan2(dx).to_degrees() - setup.direction_deg);

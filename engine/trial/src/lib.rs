@@ -11,6 +11,7 @@ pub mod course;
 pub mod episode;
 pub mod getup_bench;
 pub mod kick_bench;
+pub mod kick_contact;
 pub mod measure;
 pub mod optimize;
 

@@ -47,6 +47,10 @@ enum InSpeed {
     Squared,
 }
 
+/// Largest and step of the aim-off searched by [`LaunchTable::launch_heading_for`] [deg].
+const AIM_OFF_MAX_DEG: f64 = 30.0;
+const AIM_STEP_DEG: f64 = 0.25;
+
 /// A launch direction folded into the table's 0–45° and whether it is mirrored.
 #[derive(Debug, Clone, Copy)]
 struct Folded {
@@ -131,6 +135,52 @@ impl LaunchTable {
             Vector2::new(-heading.sin(), heading.cos()),
         );
         u * along + n * left
+    }
+
+    /// The launch speed [m/s] at which a ball launched along `heading` [rad] stops `distance`
+    /// metres away (the fastest tabulated speed at most).
+    pub fn speed_for_distance(&self, distance: f64, heading: f64) -> f64 {
+        let (mut lo, mut hi) = (0.0, self.speeds.last().copied().unwrap_or(0.0));
+        for _ in 0..40 {
+            let mid = 0.5 * (lo + hi);
+            if self.stop_offset(mid, heading).norm() < distance {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    }
+
+    /// The launch heading [rad] for a ball that is to come to rest `distance` metres away in
+    /// the direction `target` [rad]: the curve towards the diagonals, aimed off. Searched
+    /// within ±`AIM_OFF_MAX_DEG` of the target (the curve turns a path by less).
+    pub fn launch_heading_for(&self, target: f64, distance: f64) -> f64 {
+        if distance <= 0.0 {
+            return target;
+        }
+        let speed = self.speed_for_distance(distance, target);
+        let miss = |h: f64| {
+            let stop = self.stop_offset(speed, h);
+            let d = stop.y.atan2(stop.x) - target;
+            d.sin().atan2(d.cos())
+        };
+        let steps = (2.0 * AIM_OFF_MAX_DEG / AIM_STEP_DEG) as usize;
+        let best = (0..=steps)
+            .map(|k| target + (k as f64 * AIM_STEP_DEG - AIM_OFF_MAX_DEG).to_radians())
+            .min_by(|a, b| miss(*a).abs().total_cmp(&miss(*b).abs()))
+            .unwrap_or(target);
+        // Refine between the grid neighbours by the secant of the miss.
+        let (a, b) = (
+            best - AIM_STEP_DEG.to_radians(),
+            best + AIM_STEP_DEG.to_radians(),
+        );
+        let (ma, mb) = (miss(a), miss(b));
+        if ma * mb < 0.0 && (mb - ma).abs() > 1e-12 {
+            (a - ma * (b - a) / (mb - ma)).clamp(a, b)
+        } else {
+            best
+        }
     }
 
     /// How far [rad, counter-clockwise] the chord from the launch point to the ball turns off
@@ -341,5 +391,34 @@ mod tests {
         let estimate = table.launch_heading(6.0, origin, points.iter().copied(), chord.unwrap());
         assert!((estimate - heading).abs() < 1e-3, "{estimate}");
         assert!((chord.unwrap() - heading).abs() > 0.01);
+    }
+
+    #[test]
+    fn a_kick_is_aimed_off_so_the_curving_ball_stops_on_the_target_line() {
+        let table = WorldParams::builtin().ball.launch_table;
+        for target_deg in [25.0_f64, -25.0, 72.5, 113.0, -155.0, 0.0, 45.0, 90.0] {
+            let target = target_deg.to_radians();
+            let h = table.launch_heading_for(target, 11.0);
+            let speed = table.speed_for_distance(11.0, target);
+            let stop = table.stop_offset(speed, h);
+            let stop_deg = stop.y.atan2(stop.x).to_degrees();
+            let miss = (stop_deg - target_deg + 540.0).rem_euclid(360.0) - 180.0;
+            assert!(miss.abs() < 0.2, "{target_deg}: stops at {stop_deg:.2}°");
+            assert!(
+                (stop.norm() - 11.0).abs() < 1.0,
+                "{target_deg}: {:.2} m",
+                stop.norm()
+            );
+            // Towards the nearest diagonal the ball curves, so the aim is off the other way.
+            let off = h.to_degrees() - target_deg;
+            let folded = target_deg.rem_euclid(90.0);
+            if (1.0..44.0).contains(&folded) {
+                assert!(off < -0.5, "{target_deg}: aimed {off:+.2}°");
+            } else if (46.0..89.0).contains(&folded) {
+                assert!(off > 0.5, "{target_deg}: aimed {off:+.2}°");
+            } else {
+                assert!(off.abs() < 0.5, "{target_deg}: aimed {off:+.2}°");
+            }
+        }
     }
 }

@@ -5,8 +5,10 @@ use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
+use libero_trial::optimize::kick::{select_kick_tunables, KickObjective, DEFAULT_KICK_TUNABLES};
 use libero_trial::optimize::{
-    optimize, select_walk_tunables, write_back, Options, DEFAULT_WALK_TUNABLES,
+    optimize, select_walk_tunables, write_back, Objective, Options, WalkObjective,
+    DEFAULT_WALK_TUNABLES,
 };
 use libero_trial::Course;
 use std::path::PathBuf;
@@ -16,6 +18,8 @@ use std::process::ExitCode;
 pub enum Skill {
     /// The omnidirectional walk (gait geometry, timing and balance gains).
     Walk,
+    /// The long kick (contact geometry, swing), kicked from around the kicking place.
+    Kick,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -57,8 +61,12 @@ pub struct OptimizeArgs {
     /// course per seed, costs summed, so no candidate wins by fitting one sequence).
     #[arg(long, value_delimiter = ',', default_value = "1,2")]
     pub course_seeds: Vec<u64>,
-    /// The parameters searched (names as in the parameter file).
-    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_WALK_TUNABLES.map(String::from))]
+    /// Kicks every candidate makes (`kick`; more kicks, less luck, slower generations).
+    #[arg(long, default_value_t = 6)]
+    pub kicks: usize,
+    /// The parameters searched (default: the skill's usual set; `walk`: names as in the
+    /// parameter file's walk section, `kick`: `long.strike_height_m` and the like).
+    #[arg(long, value_delimiter = ',')]
     pub tunables: Vec<String>,
     /// Search and report, but leave the parameter file as it is.
     #[arg(long)]
@@ -72,20 +80,40 @@ fn default_params_file() -> PathBuf {
 pub fn run(args: OptimizeArgs) -> CliResult {
     let model = RobotModel::builtin("T1")?;
     let start = SkillParams::load(&args.params, &model)?;
-    let names: Vec<&str> = args.tunables.iter().map(String::as_str).collect();
-    let tunables = match args.skill {
-        Skill::Walk => select_walk_tunables(&names)?,
-    };
+    let mut names: Vec<&str> = args.tunables.iter().map(String::as_str).collect();
     let w = &start.walk;
     let limits = [w.max_forward_m_s, w.max_sideways_m_s, w.max_turn_deg_s];
-    let courses = match args.course {
-        CourseKind::Bars => args
-            .course_seeds
-            .iter()
-            .map(|&seed| Course::bars(limits, seed))
-            .collect(),
-        CourseKind::Standard => vec![Course::standard()],
-        CourseKind::Forward => vec![Course::rising(w.max_forward_m_s, 15.0)],
+    let (tunables, objective): (_, Box<dyn Objective>) = match args.skill {
+        Skill::Walk => {
+            if names.is_empty() {
+                names = DEFAULT_WALK_TUNABLES.to_vec();
+            }
+            let courses = match args.course {
+                CourseKind::Bars => args
+                    .course_seeds
+                    .iter()
+                    .map(|&seed| Course::bars(limits, seed))
+                    .collect(),
+                CourseKind::Standard => vec![Course::standard()],
+                CourseKind::Forward => vec![Course::rising(w.max_forward_m_s, 15.0)],
+            };
+            (
+                select_walk_tunables(&names)?,
+                Box::new(WalkObjective { courses }),
+            )
+        }
+        Skill::Kick => {
+            if names.is_empty() {
+                names = DEFAULT_KICK_TUNABLES.to_vec();
+            }
+            let distance = start.kick.long_kick_from_m + 5.0;
+            (
+                select_kick_tunables(&names)?,
+                Box::new(KickObjective::at_place(
+                    args.kicks, args.seed, distance, &start,
+                )),
+            )
+        }
     };
     let options = Options {
         generations: args.generations,
@@ -96,9 +124,7 @@ pub fn run(args: OptimizeArgs) -> CliResult {
         budget: args
             .budget_min
             .map(|m| std::time::Duration::from_secs_f64(m.max(0.0) * 60.0)),
-        courses,
     };
-    let course_s: f64 = options.courses.iter().map(Course::duration_s).sum();
     println!(
         "optimizing {} parameters of {} over {} generations on {} server(s)",
         tunables.len(),
@@ -110,6 +136,7 @@ pub fn run(args: OptimizeArgs) -> CliResult {
     let outcome = optimize(
         &start,
         &tunables,
+        objective.as_ref(),
         &options,
         |generation, cost, mean, best| {
             let values: Vec<String> = tunables
@@ -124,16 +151,17 @@ pub fn run(args: OptimizeArgs) -> CliResult {
         },
     )?;
     println!(
-        "{} generations of {} candidates, {} evaluations of {course_s:.0} s of course each, {:.0} s wall time",
+        "{} generations of {} candidates, {} evaluations, {:.0} s wall time",
         outcome.history.len(),
         outcome.population,
         outcome.evaluations,
         began.elapsed().as_secs_f64()
     );
     println!(
-        "cost {:.3} → {:.3} (lower is better: minus seconds of commanded motion achieved; \
-         a fall adds 2 per course second, half that at the very end)",
-        outcome.start_cost, outcome.best_cost
+        "cost {:.3} → {:.3} (lower is better: {})",
+        outcome.start_cost,
+        outcome.best_cost,
+        objective.explain()
     );
     for t in &tunables {
         println!(

@@ -17,8 +17,8 @@ use nalgebra::{Rotation2, Vector2};
 pub enum ApproachStep {
     /// Walk with this command.
     Walk(Velocity),
-    /// Near the kicking place but not within the kick's tolerances: this small-step command
-    /// brings it closer.
+    /// Near the kicking place (within `look_within_m` and `look_within_deg`) but not within the
+    /// kick's tolerances: this small-step command brings it closer.
     Align(Velocity),
     /// At the kicking place (within the tolerances).
     Ready,
@@ -70,11 +70,17 @@ fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>) -> f64 {
 /// Angle of the arc step taken around the ball per waypoint [deg].
 const ARC_STEP_DEG: f64 = 40.0;
 
-/// This cycle's approach command.
+/// How far the look zone widens once the robot has stopped in it: walking estimates jitter,
+/// and a robot on its edge would otherwise start and stop walking without end.
+const LOOK_ZONE_HYSTERESIS: f64 = 2.0;
+
+/// This cycle's approach command. `looking`: the robot has stopped to look near the place
+/// (the look zone is then wider).
 pub fn step(
     ball: [f64; 2],
     direction_deg: f64,
     foot: Foot,
+    looking: bool,
     a: &KickApproach,
     w: &WalkParams,
 ) -> ApproachStep {
@@ -96,14 +102,29 @@ pub fn step(
         {
             return ApproachStep::Ready;
         }
+        let widen = if looking { LOOK_ZONE_HYSTERESIS } else { 1.0 };
+        let coarse =
+            p.norm() > a.look_within_m * widen || heading_error.abs() > a.look_within_deg * widen;
         let v = p * a.align_gain_per_s;
         let scale = (v.norm() / a.align_speed_m_s).max(1.0);
-        return ApproachStep::Align(Velocity {
+        // Small position errors are walked off at the slowest speed that still moves.
+        let scale = if v.norm() > 1e-9 {
+            scale.min(v.norm() / a.align_min_speed_m_s)
+        } else {
+            scale
+        };
+        let v = Velocity {
             forward_m_s: v.x / scale,
             sideways_m_s: v.y / scale,
             turn_deg_s: (a.align_turn_gain_per_s * heading_error)
                 .clamp(-w.max_turn_deg_s, w.max_turn_deg_s),
-        });
+        };
+        // Far from the tolerances, walking estimates are good enough: align on the move.
+        return if coarse {
+            ApproachStep::Walk(v)
+        } else {
+            ApproachStep::Align(v)
+        };
     }
     let target = if segment_distance(robot, p, b) >= a.clearance_m {
         p
@@ -114,13 +135,19 @@ pub fn step(
         let to = p - b;
         let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
         let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
-        let radius = a.clearance_m * 1.3;
+        let radius = a.circle_radius_m;
         let dir =
             Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
         b + dir * radius
     };
     let v = walk_to::velocity_towards([target.x, target.y], heading_error, w).unwrap_or_default();
-    ApproachStep::Walk(v.capped(Some(a.approach_speed_m_s)))
+    let v = v.capped(Some(a.approach_speed_m_s));
+    ApproachStep::Walk(Velocity {
+        turn_deg_s: v
+            .turn_deg_s
+            .clamp(-a.approach_turn_deg_s, a.approach_turn_deg_s),
+        ..v
+    })
 }
 
 #[cfg(test)]
@@ -151,7 +178,7 @@ mod tests {
     fn from_in_front_of_the_ball_the_path_goes_around_it() {
         let (a, w) = params();
         // Ball 0.6 m ahead, to be kicked back towards the robot: the place is behind the ball.
-        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, &a, &w) else {
+        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, false, &a, &w) else {
             panic!("not ready from the wrong side");
         };
         // Not straight at the ball: sideways first.
@@ -159,7 +186,7 @@ mod tests {
             v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0,
             "{v:?}"
         );
-        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, &a, &w) else {
+        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, false, &a, &w) else {
             panic!("not ready 1 m away");
         };
         assert!(v.forward_m_s > 0.0, "{v:?}");
@@ -169,9 +196,24 @@ mod tests {
     fn at_the_place_it_is_ready() {
         let (a, w) = params();
         let ball = [a.ball_ahead_m, a.ball_beside_m];
-        assert_eq!(step(ball, 0.0, Foot::Left, &a, &w), ApproachStep::Ready);
+        assert_eq!(
+            step(ball, 0.0, Foot::Left, false, &a, &w),
+            ApproachStep::Ready
+        );
+        // Slightly off: stop, look and correct; further off: align on the move.
+        let slightly = 0.5 * (a.ready_deg + a.look_within_deg);
         assert!(matches!(
-            step(ball, 20.0, Foot::Left, &a, &w),
+            step(ball, slightly, Foot::Left, false, &a, &w),
+            ApproachStep::Align(v) if v.turn_deg_s > 0.0
+        ));
+        let beyond = a.look_within_deg + 2.0;
+        assert!(matches!(
+            step(ball, beyond, Foot::Left, false, &a, &w),
+            ApproachStep::Walk(v) if v.turn_deg_s > 0.0
+        ));
+        // Once stopped to look, the same error is corrected from standing.
+        assert!(matches!(
+            step(ball, beyond, Foot::Left, true, &a, &w),
             ApproachStep::Align(v) if v.turn_deg_s > 0.0
         ));
         assert_eq!(natural_foot(ball, 0.0), Foot::Left);

@@ -74,6 +74,12 @@ pub struct Kick {
     still_since: Option<f64>,
     /// A correction walk near the kicking place runs until then.
     correcting_until: Option<f64>,
+    /// Stopped (or correcting) near the kicking place.
+    looking: bool,
+    /// Looks at the kicking place since the last free walk that did not find it ready.
+    failed_looks: u32,
+    /// Stepping back from the kicking place for a fresh approach until then.
+    retreating_until: Option<f64>,
     angles: Vec<f64>,
 }
 
@@ -89,6 +95,9 @@ impl Kick {
             running: None,
             still_since: None,
             correcting_until: None,
+            looking: false,
+            failed_looks: 0,
+            retreating_until: None,
             angles: vec![0.0; model.joints.len()],
         })
     }
@@ -119,6 +128,9 @@ impl Kick {
         self.running = None;
         self.still_since = None;
         self.correcting_until = None;
+        self.looking = false;
+        self.failed_looks = 0;
+        self.retreating_until = None;
     }
 
     /// One cycle of a kick request. `walk_stepping`: the walk is still making steps;
@@ -160,9 +172,28 @@ impl Kick {
         // Near the place the estimates taken while walking are too rough for the kick's
         // tolerances (the walk sways the camera): stop, look while standing, then either kick
         // or walk a short correction and look again.
-        let step = approach::step(request.ball, request.direction_deg, foot, a, w);
+        if let Some(until) = self.retreating_until {
+            if now < until {
+                return KickOutput::Walk(Some(Velocity {
+                    forward_m_s: -a.align_speed_m_s,
+                    ..Velocity::default()
+                }));
+            }
+            self.retreating_until = None;
+        }
+        let step = approach::step(
+            request.ball,
+            request.direction_deg,
+            foot,
+            self.looking,
+            a,
+            w,
+        );
+        self.looking = !matches!(step, ApproachStep::Walk(_));
         let correction = match step {
             ApproachStep::Walk(v) => {
+                log::trace!("kick: approach {v:?}");
+                self.failed_looks = 0;
                 self.correcting_until = None;
                 self.still_since = None;
                 return KickOutput::Walk(Some(v));
@@ -194,8 +225,16 @@ impl Kick {
                     request.ball[1],
                     request.direction_deg
                 );
-                self.correcting_until = Some(now + a.correction_s);
                 self.still_since = None;
+                self.failed_looks += 1;
+                // Short corrections that do not get there (small sideways steps barely move the
+                // robot) are given up for a fresh approach, which aligns on the move.
+                if self.failed_looks >= a.looks_before_retreat {
+                    self.failed_looks = 0;
+                    self.retreating_until = Some(now + a.retreat_s);
+                    return KickOutput::Walk(None);
+                }
+                self.correcting_until = Some(now + a.correction_s);
                 KickOutput::Walk(Some(correction))
             }
             ApproachStep::Ready => {
@@ -237,10 +276,25 @@ impl Kick {
         let frame = r.plan.at(now - r.started_s);
         let level_to_torso =
             UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -frame.lean_deg.to_radians());
+        let m = if r.long { &k.long } else { &k.short };
+        // Coming back down, the kicking foot looks for the ground where it is below the tilted
+        // torso (the agent's own filtered roll and pitch).
+        let landing = matches!(frame.phase, Phase::Retract | Phase::Recover);
+        let tilt = UnitQuaternion::from_euler_angles(
+            world.me.roll_deg.to_radians(),
+            world.me.pitch_deg.to_radians(),
+            0.0,
+        );
+        let landing_to_torso = landing_rotation(level_to_torso, tilt, m.landing_tilt_gain);
         self.angles.copy_from_slice(pose);
-        for (leg, sole) in self.legs.iter().zip(&frame.soles) {
+        for (i, (leg, sole)) in self.legs.iter().zip(&frame.soles).enumerate() {
+            let to_torso = if landing && i == r.plan.foot.index() {
+                landing_to_torso
+            } else {
+                level_to_torso
+            };
             let target =
-                Isometry3::from_parts(Translation3::identity(), level_to_torso) * sole_pose(sole);
+                Isometry3::from_parts(Translation3::identity(), to_torso) * sole_pose(sole);
             // The IK never writes NaN and gives the closest pose when out of reach; an error
             // only means a non-finite target.
             if let Err(e) = leg.solve(&self.kin, &target, &mut self.angles) {
@@ -249,7 +303,6 @@ impl Kick {
         }
         // Gyro damping on the stance ankle, as in the walk: one foot carries the body and its
         // rolling and pitching must be stopped early.
-        let m = if r.long { &k.long } else { &k.short };
         let attitude = Attitude::from_body(&world.body);
         let limit = |v: f64| v.clamp(-m.stance_max_correction_deg, m.stance_max_correction_deg);
         let stance = self.legs[r.plan.foot.other().index()].joints();
@@ -280,6 +333,39 @@ impl Kick {
             .filter(move |_| active)
             .map(move |(joint, g)| (format!("{side}_{joint}"), g.kp, g.kd))
     }
+}
+
+/// From the level frame of the plan to the torso frame for a foot coming down: the planned
+/// lean, blended by `gain` towards the torso's measured `tilt` (torso to level), which already
+/// holds the lean.
+fn landing_rotation(
+    level_to_torso: UnitQuaternion<f64>,
+    tilt: UnitQuaternion<f64>,
+    gain: f64,
+) -> UnitQuaternion<f64> {
+    level_to_torso.slerp(&tilt.inverse(), gain)
+}
+
+/// The robot-frame direction to launch the ball in so that, curving as the server's ball does,
+/// it comes to rest on the line `direction_deg` (robot frame) asks for. Uses the agent's own
+/// heading estimate: the curve depends on the direction in the field.
+pub fn aimed_for_curve(direction_deg: f64, distance_m: f64, world: &World, k: &KickParams) -> f64 {
+    let m = if distance_m >= k.long_kick_from_m {
+        &k.long
+    } else {
+        &k.short
+    };
+    if m.roll_out_m <= 0.0 {
+        return direction_deg;
+    }
+    let field_deg = world.me.yaw_deg + direction_deg;
+    let launch_deg = world
+        .params
+        .ball
+        .launch_table
+        .launch_heading_for(field_deg.to_radians(), m.roll_out_m)
+        .to_degrees();
+    libero_world::geometry::wrap_deg(direction_deg + launch_deg - field_deg)
 }
 
 fn sole_pose(s: &SolePlacement) -> Isometry3<f64> {
@@ -383,6 +469,90 @@ mod tests {
             assert!(t < calm_from + k.approach.look_s + 0.1, "no kick at {t}");
         }
         assert!(t >= calm_from + k.approach.look_s);
+    }
+
+    #[test]
+    fn a_foot_coming_down_under_a_tilted_torso_reaches_for_the_level_ground() {
+        let lean = UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -5f64.to_radians());
+        // Torso rolled 15° (left side up) over the support foot.
+        let tilt = UnitQuaternion::from_euler_angles(15f64.to_radians(), 0.0, 0.0);
+        let below = Vector3::new(0.0, 0.0, -0.6);
+        assert!(landing_rotation(lean, tilt, 0.0).angle_to(&lean) < 1e-9);
+        // Fully allowed for: the point straight below in the level frame is where gravity
+        // points in the torso frame.
+        let reached = landing_rotation(lean, tilt, 1.0) * below;
+        let down_in_torso = tilt.inverse() * below;
+        assert!((reached - down_in_torso).norm() < 1e-9, "{reached:?}");
+        // Half of it lies between.
+        let half = landing_rotation(lean, tilt, 0.5) * below;
+        let (y_none, y_full) = ((lean * below).y, down_in_torso.y);
+        assert!(
+            half.y > y_none.min(y_full) && half.y < y_none.max(y_full),
+            "{half:?}"
+        );
+    }
+
+    #[test]
+    fn kicks_are_aimed_off_for_the_curve_and_straight_without_a_roll_out() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let mut world = World::new(&t1, "t", 1);
+        world.me.yaw_deg = 20.0;
+        // Kicking 5° left of the heading: 25° in the field, between an axis and a diagonal
+        // (45°), towards which the ball curves; so the launch is aimed to the right.
+        let long = p.kick.long_kick_from_m + 1.0;
+        let aimed = aimed_for_curve(5.0, long, &world, &p.kick);
+        assert!(aimed < 5.0 - 1.0, "{aimed}");
+        let launch = (world.me.yaw_deg + aimed).to_radians();
+        let table = &world.params.ball.launch_table;
+        let speed = table.speed_for_distance(p.kick.long.roll_out_m, launch);
+        let stop = table.stop_offset(speed, launch);
+        assert!((stop.y.atan2(stop.x).to_degrees() - 25.0).abs() < 0.2);
+        // Along a diagonal the ball runs straight.
+        assert!((aimed_for_curve(25.0, long, &world, &p.kick) - 25.0).abs() < 0.3);
+        let mut straight = p.kick.clone();
+        straight.long.roll_out_m = 0.0;
+        assert_eq!(aimed_for_curve(5.0, long, &world, &straight), 5.0);
+    }
+
+    #[test]
+    fn corrections_that_do_not_get_there_end_in_a_step_back() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let a = &k.approach;
+        let mut kick = Kick::new(&t1).unwrap();
+        // Just outside the across tolerance, and the robot never moves.
+        let req = KickRequest {
+            ball: [a.ball_ahead_m, a.ball_beside_m + 1.5 * a.ready_across_m],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        let mut t = 0.0;
+        let mut corrections = 0;
+        let back = loop {
+            let out = kick.update(req, t, false, 0.0, k, w);
+            match out {
+                KickOutput::Walk(Some(v)) if v.forward_m_s < 0.0 && v.sideways_m_s == 0.0 => {
+                    break v;
+                }
+                KickOutput::Walk(Some(v)) => {
+                    assert!(v.sideways_m_s > 0.0, "{v:?}");
+                    corrections += 1;
+                }
+                KickOutput::Motion => panic!("kicked out of tolerance at {t}"),
+                _ => {}
+            }
+            t += 0.02;
+            assert!(t < 60.0, "no step back");
+        };
+        assert!(back.forward_m_s <= -a.align_min_speed_m_s, "{back:?}");
+        let per_look = (a.correction_s / 0.02).round() as usize;
+        assert_eq!(
+            corrections,
+            (a.looks_before_retreat as usize - 1) * per_look,
+            "the correction walks before stepping back"
+        );
     }
 
     #[test]

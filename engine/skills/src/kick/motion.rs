@@ -8,7 +8,7 @@
 use super::params::KickMotion;
 use crate::walk::gait::{Foot, SolePlacement};
 use crate::walk::WalkParams;
-use nalgebra::Vector2;
+use nalgebra::{Rotation2, Vector2};
 
 /// One planned kick.
 #[derive(Debug, Clone)]
@@ -91,9 +91,12 @@ impl MotionPlan {
     /// Place the wind-up and the swing for a ball at `ball` (start frame).
     fn aim(&mut self, ball: [f64; 2], direction_deg: f64) {
         let m = &self.m;
-        let yaw = direction_deg.clamp(-m.max_foot_turn_deg, m.max_foot_turn_deg);
+        // The body will have turned about the support foot by the contact: aim in that frame.
+        let turn = self.foot.sign() * m.contact_yaw_deg;
+        let pivot = Vector2::from(self.neutral[self.foot.other().index()]);
+        let b = Rotation2::new(-turn.to_radians()) * (Vector2::from(ball) - pivot) + pivot;
+        let yaw = (direction_deg - turn).clamp(-m.max_foot_turn_deg, m.max_foot_turn_deg);
         let d = Vector2::new(yaw.to_radians().cos(), yaw.to_radians().sin());
-        let b = Vector2::from(ball);
         let home_y = self.neutral[self.foot.index()][1];
         // The sole point that puts the toe `behind` metres behind the ball's back, on the
         // line through the ball centre along the kick, as far across as the foot reaches.
@@ -183,5 +186,37 @@ impl MotionPlan {
             soles,
             lean_deg: self.walk_lean_deg + (m.kick_lean_deg - self.walk_lean_deg) * lean,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_swing_is_aimed_in_the_frame_the_body_turns_to_by_the_contact() {
+        let t1 = libero_model::RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let mut m = p.kick.long.clone();
+        let ball = [0.36, 0.10];
+        m.contact_yaw_deg = 0.0;
+        let straight = MotionPlan::new(Foot::Left, ball, 0.0, 0.11, 0.12, &m, &p.walk);
+        m.contact_yaw_deg = 9.0;
+        let left = MotionPlan::new(Foot::Left, ball, 0.0, 0.11, 0.12, &m, &p.walk);
+        let right = MotionPlan::new(Foot::Right, [0.36, -0.10], 0.0, 0.11, 0.12, &m, &p.walk);
+        assert_eq!(straight.foot_yaw_deg, 0.0);
+        // A left kick turns the body left: the foot is turned right against it, and the swing
+        // aims at the ball as it will then lie (further right).
+        assert!(
+            (left.foot_yaw_deg + 9.0).abs() < 1e-9,
+            "{}",
+            left.foot_yaw_deg
+        );
+        assert!(
+            (right.foot_yaw_deg - 9.0).abs() < 1e-9,
+            "{}",
+            right.foot_yaw_deg
+        );
+        assert!(left.swing_end[1] < straight.swing_end[1] - 0.01);
     }
 }

@@ -30,8 +30,14 @@ pub struct KickApproach {
     /// Paths to the kicking place keep the torso at least this far from the ball centre [m];
     /// otherwise the robot walks around the ball on a circle of this radius.
     pub clearance_m: f64,
+    /// Radius of the circle walked around the ball [m] (torso to ball centre): wider than the
+    /// clearance, since turning and side-stepping feet reach out beyond the torso.
+    pub circle_radius_m: f64,
     /// Speed cap while walking to the kicking place [m/s].
     pub approach_speed_m_s: f64,
+    /// Fastest turn while walking there [deg/s]: the walk's fastest turn on top of walking
+    /// fast, with the command changing every cycle, can tip the robot over.
+    pub approach_turn_deg_s: f64,
     /// Closer than this to the kicking place the robot aligns with small steps [m].
     pub align_within_m: f64,
     /// Alignment: speed per metre of position error [1/s], turn per degree of heading error
@@ -39,6 +45,13 @@ pub struct KickApproach {
     pub align_gain_per_s: f64,
     pub align_turn_gain_per_s: f64,
     pub align_speed_m_s: f64,
+    /// Slowest alignment walk [m/s]: slower commands barely move the robot (the first steps of
+    /// a walk sway more than they travel), so small errors are walked off at this speed.
+    pub align_min_speed_m_s: f64,
+    /// Within these errors of the kicking place the robot stops, looks and corrects in short
+    /// walks; beyond them it aligns on the move (stopping to look at every step is slow).
+    pub look_within_m: f64,
+    pub look_within_deg: f64,
     /// The kick starts when the robot has stopped within these errors of the kicking place:
     /// along the kick direction [m], across it [m], heading [deg].
     pub ready_along_m: f64,
@@ -47,6 +60,10 @@ pub struct KickApproach {
     /// Near the place: how long to stand still and look before judging the errors [s], and
     /// how long each correction walk lasts [s].
     pub look_s: f64,
+    /// After this many looks at the kicking place that found it not ready, the robot steps
+    /// back for `retreat_s` (at `align_speed_m_s`) and approaches afresh.
+    pub looks_before_retreat: u32,
+    pub retreat_s: f64,
     pub correction_s: f64,
     /// Standing still means also a torso roll and pitch rate below this [deg/s]: the look
     /// (and so the kick) waits until the sway from the last steps has died down.
@@ -70,8 +87,21 @@ pub struct KickMotion {
     /// How much further than `weight_shift_m` the torso ends up over the support foot, the
     /// stance leg and foot giving way under the body's weight (measured) [m].
     pub support_sag_m: f64,
+    /// How far the whole body has turned about the support foot by the time the foot meets
+    /// the ball [deg], towards the kicking foot's side (measured: the swing's reaction spins
+    /// the support foot on the ground). The swing is aimed in the frame the body will then have.
+    pub contact_yaw_deg: f64,
+    /// How far this kick's ball usually travels [m] (measured). The ball's path curves (on
+    /// rcssservermj towards the field's diagonals, see `LaunchTable`); the kick is aimed off so
+    /// a ball travelling this far comes to rest on the requested line. 0: aim straight.
+    pub roll_out_m: f64,
     /// Torso lean while kicking [deg], + forwards.
     pub kick_lean_deg: f64,
+    /// How much of the torso's measured tilt the kicking foot allows for while it comes back
+    /// down (0: placed as if the torso were upright, 1: placed on the level ground below a
+    /// tilted torso). A body left leaning over the support foot after the swing is pushed
+    /// back by the kicking foot reaching the ground instead of hanging in the air.
+    pub landing_tilt_gain: f64,
     /// Height of the kicking sole during the wind-up [m].
     pub windup_lift_m: f64,
     /// How far behind the ball's back the toe is pulled during the wind-up [m].
@@ -120,7 +150,9 @@ impl KickParams {
         in_range(&p("ball_ahead_m"), a.ball_ahead_m, 0.05, 1.0)?;
         in_range(&p("ball_beside_m"), a.ball_beside_m, 0.0, 0.3)?;
         in_range(&p("clearance_m"), a.clearance_m, 0.1, 2.0)?;
+        in_range(&p("circle_radius_m"), a.circle_radius_m, a.clearance_m, 3.0)?;
         in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
+        in_range(&p("approach_turn_deg_s"), a.approach_turn_deg_s, 1.0, 360.0)?;
         in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;
         in_range(&p("align_gain_per_s"), a.align_gain_per_s, 0.01, 10.0)?;
         in_range(
@@ -130,10 +162,25 @@ impl KickParams {
             10.0,
         )?;
         in_range(&p("align_speed_m_s"), a.align_speed_m_s, 0.005, 1.0)?;
+        in_range(
+            &p("align_min_speed_m_s"),
+            a.align_min_speed_m_s,
+            0.0,
+            a.align_speed_m_s,
+        )?;
+        in_range(&p("look_within_m"), a.look_within_m, 0.0, 1.0)?;
+        in_range(&p("look_within_deg"), a.look_within_deg, 0.0, 90.0)?;
         in_range(&p("ready_along_m"), a.ready_along_m, 0.001, 0.5)?;
         in_range(&p("ready_across_m"), a.ready_across_m, 0.001, 0.5)?;
         in_range(&p("ready_deg"), a.ready_deg, 0.1, 45.0)?;
         in_range(&p("look_s"), a.look_s, 0.0, 5.0)?;
+        in_range(
+            &p("looks_before_retreat"),
+            f64::from(a.looks_before_retreat),
+            1.0,
+            100.0,
+        )?;
+        in_range(&p("retreat_s"), a.retreat_s, 0.0, 10.0)?;
         in_range(&p("correction_s"), a.correction_s, 0.05, 5.0)?;
         in_range(&p("calm_rate_deg_s"), a.calm_rate_deg_s, 0.1, 100.0)?;
         in_range(&p("look_down_deg"), a.look_down_deg, -90.0, 90.0)?;
@@ -164,7 +211,10 @@ impl KickMotion {
         in_range(&p("swing_s"), self.swing_s, 0.02, 2.0)?;
         in_range(&p("weight_shift_m"), self.weight_shift_m, 0.0, 0.2)?;
         in_range(&p("support_sag_m"), self.support_sag_m, 0.0, 0.2)?;
+        in_range(&p("contact_yaw_deg"), self.contact_yaw_deg, -30.0, 30.0)?;
+        in_range(&p("roll_out_m"), self.roll_out_m, 0.0, 40.0)?;
         in_range(&p("kick_lean_deg"), self.kick_lean_deg, -20.0, 30.0)?;
+        in_range(&p("landing_tilt_gain"), self.landing_tilt_gain, 0.0, 1.5)?;
         in_range(&p("windup_lift_m"), self.windup_lift_m, 0.0, 0.3)?;
         in_range(&p("windup_back_m"), self.windup_back_m, 0.0, 0.5)?;
         in_range(&p("follow_through_m"), self.follow_through_m, 0.0, 0.5)?;

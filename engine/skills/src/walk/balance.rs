@@ -15,6 +15,17 @@ pub struct Attitude {
 }
 
 impl Attitude {
+    /// Roll and pitch from the world model's filtered estimate (gyro-carried, slowly corrected
+    /// by the accelerometer, so steps' accelerations do not fool it), rates from the gyro.
+    pub fn from_world(world: &libero_world::World) -> Self {
+        Self {
+            pitch_deg: world.me.pitch_deg,
+            roll_deg: world.me.roll_deg,
+            roll_rate_deg_s: world.body.gyro[0],
+            pitch_rate_deg_s: world.body.gyro[1],
+        }
+    }
+
     pub fn from_body(body: &BodyState) -> Self {
         let [gx, gy, gz] = body.gravity;
         Self {

@@ -182,8 +182,12 @@ impl Walk {
                     if request.is_none() && self.executed.is_zero() && self.gait.feet_together() {
                         self.phase = Phase::Idle;
                     } else {
+                        // Leaning back, the next step lands further back to catch the body
+                        // (and further forward when leaning forward).
+                        let tilt = Attitude::from_world(world).pitch_deg - p.torso_lean_deg;
                         let step = Step {
-                            x: self.executed.forward_m_s * p.step_period_s,
+                            x: self.executed.forward_m_s * p.step_period_s
+                                + p.balance.step_x_per_tilt_m * tilt,
                             y: self.executed.sideways_m_s * p.step_period_s,
                             yaw_deg: self.executed.turn_deg_s * p.step_period_s,
                         };
@@ -223,7 +227,7 @@ impl Walk {
                 log::warn!("walk: leg IK failed: {e}");
             }
         }
-        let attitude = Attitude::from_body(&world.body);
+        let attitude = Attitude::from_world(world);
         let c = if self.phase == Phase::Walking {
             corrections(&p.balance, &attitude, p.torso_lean_deg)
         } else {

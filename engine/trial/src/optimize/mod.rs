@@ -1,20 +1,32 @@
-//! `libero optimize walk`: CMA-ES over the walk's parameters against the real server.
+//! `libero optimize <skill>`: CMA-ES over a skill's parameters against the real server.
 //!
-//! Each candidate walks every one of a few [`Course`]s on a fast-mode server (several courses,
-//! so it cannot fit one sequence of commands); its cost is minus the progress made the
-//! commanded way, plus a heavy penalty for falling (the earlier, the heavier). Several servers
-//! evaluate a generation in parallel. Parameters are searched in coordinates
-//! normalised to their allowed range, so one step size fits all.
+//! An [`Objective`] says what a parameter set costs on a fast-mode server: [`walk`] walks a few
+//! courses, [`kick`] kicks from a few places. Several servers evaluate a generation in
+//! parallel. Parameters are searched in coordinates normalised to their allowed range, so one
+//! step size fits all, and the best are written back into the parameter file in place.
+
+pub mod kick;
+pub mod walk;
 
 use crate::cmaes::CmaEs;
-use crate::course::{progress, Course};
-use crate::episode::{Episode, Trial, TrialError};
+use crate::episode::{Trial, TrialError};
 use libero_skills::SkillParams;
 use std::sync::Mutex;
 
-/// One searched number: its name in the parameter file, its range, and how to reach it.
+pub use walk::{select_walk_tunables, walk_tunables, WalkObjective, DEFAULT_WALK_TUNABLES};
+
+/// What a parameter set costs (lower is better), measured on a server.
+pub trait Objective: Sync {
+    fn cost(&self, trial: &mut Trial, params: &SkillParams) -> Result<f64, TrialError>;
+    /// One line saying what the cost means, for the report.
+    fn explain(&self) -> String;
+}
+
+/// One searched number: its name on the command line, where it is in the parameter file
+/// (field names from the top, dot-separated), its range, and how to reach it.
 pub struct Tunable {
     pub name: &'static str,
+    pub path: &'static str,
     pub lo: f64,
     pub hi: f64,
     pub get: fn(&SkillParams) -> f64,
@@ -23,8 +35,19 @@ pub struct Tunable {
 
 macro_rules! tunable {
     ($name:ident, $lo:expr, $hi:expr, $($path:ident).+) => {
-        Tunable {
+        $crate::optimize::Tunable {
             name: stringify!($name),
+            path: stringify!($($path).+),
+            lo: $lo,
+            hi: $hi,
+            get: |p| p.$($path).+,
+            set: |p, v| p.$($path).+ = v,
+        }
+    };
+    ($name:literal, $lo:expr, $hi:expr, $($path:ident).+) => {
+        $crate::optimize::Tunable {
+            name: $name,
+            path: stringify!($($path).+),
             lo: $lo,
             hi: $hi,
             get: |p| p.$($path).+,
@@ -32,74 +55,28 @@ macro_rules! tunable {
         }
     };
 }
+pub(crate) use tunable;
 
-/// The walk numbers the optimiser searches by default: the few that decide how fast and how
-/// steadily the gait goes (cadence, clearance, weight shift, where the feet land, lean, ankle
-/// damping). Fewer dimensions let a run of an hour on one server actually converge.
-pub const DEFAULT_WALK_TUNABLES: [&str; 7] = [
-    "step_period_s",
-    "step_height_m",
-    "sway_m",
-    "foot_x_offset_m",
-    "torso_lean_deg",
-    "ankle_pitch_per_gyro",
-    "ankle_roll_per_gyro",
-];
-
-/// The walk tunables with these names, in the order given; an unknown name is an error that
-/// lists the known ones.
-pub fn select_walk_tunables(names: &[&str]) -> Result<Vec<Tunable>, String> {
-    let mut all = walk_tunables();
+/// The tunables of `all` with these names, in the order given; an unknown name is an error
+/// that lists the known ones.
+pub fn select_tunables(
+    all: Vec<Tunable>,
+    names: &[&str],
+    skill: &str,
+) -> Result<Vec<Tunable>, String> {
+    let known: Vec<&str> = all.iter().map(|t| t.name).collect();
+    let known = known.join(", ");
+    let mut all = all;
     names
         .iter()
         .map(|name| {
-            let at = all.iter().position(|t| t.name == *name).ok_or_else(|| {
-                let known: Vec<&str> = walk_tunables().iter().map(|t| t.name).collect();
-                format!("no walk tunable `{name}` (known: {})", known.join(", "))
-            })?;
+            let at = all
+                .iter()
+                .position(|t| t.name == *name)
+                .ok_or_else(|| format!("no {skill} tunable `{name}` (known: {known})"))?;
             Ok(all.remove(at))
         })
         .collect()
-}
-
-/// Every walk number the optimiser can search.
-pub fn walk_tunables() -> Vec<Tunable> {
-    vec![
-        tunable!(step_period_s, 0.2, 0.5, walk.step_period_s),
-        tunable!(torso_height_m, 0.5, 0.65, walk.torso_height_m),
-        tunable!(torso_lean_deg, -5.0, 15.0, walk.torso_lean_deg),
-        tunable!(foot_x_offset_m, 0.0, 0.12, walk.foot_x_offset_m),
-        tunable!(foot_y_offset_m, 0.08, 0.14, walk.foot_y_offset_m),
-        tunable!(step_height_m, 0.01, 0.08, walk.step_height_m),
-        tunable!(sway_m, 0.0, 0.06, walk.sway_m),
-        tunable!(sway_phase_lead, 0.0, 0.4, walk.sway_phase_lead),
-        tunable!(arm_swing_deg_per_m, -200.0, 200.0, walk.arm_swing_deg_per_m),
-        tunable!(
-            ankle_pitch_per_gyro,
-            -0.3,
-            0.3,
-            walk.balance.ankle_pitch_per_gyro
-        ),
-        tunable!(
-            ankle_pitch_per_tilt,
-            -1.5,
-            1.5,
-            walk.balance.ankle_pitch_per_tilt
-        ),
-        tunable!(
-            hip_pitch_per_gyro,
-            -0.3,
-            0.3,
-            walk.balance.hip_pitch_per_gyro
-        ),
-        tunable!(
-            ankle_roll_per_gyro,
-            -0.3,
-            0.3,
-            walk.balance.ankle_roll_per_gyro
-        ),
-        tunable!(hip_roll_per_gyro, -0.3, 0.3, walk.balance.hip_roll_per_gyro),
-    ]
 }
 
 /// How to run the search.
@@ -116,17 +93,7 @@ pub struct Options {
     /// Stop after the generation that ends past this much wall time (the server's speed
     /// depends on the machine's load, so a budget in generations alone can run far over).
     pub budget: Option<std::time::Duration>,
-    /// Every candidate walks all of these; its cost is the sum.
-    pub courses: Vec<Course>,
 }
-
-/// Cost of falling at the very start, per second of course (progress is counted in seconds
-/// of commanded motion, so this is twice a perfect run); a fall at the end costs half of it.
-const FALL_PENALTY_PER_S: f64 = 2.0;
-
-/// Where the robot starts each episode (in our half, well away from the ball at the centre,
-/// with room for a course's forward legs).
-const START: [f64; 3] = [-18.0, 0.0, 0.0];
 
 /// The result of a search.
 pub struct Outcome {
@@ -139,42 +106,6 @@ pub struct Outcome {
     pub evaluations: usize,
     /// (generation, best cost so far, mean cost of the generation)
     pub history: Vec<(usize, f64, f64)>,
-}
-
-/// Cost of `params` over all `courses`.
-pub fn evaluate_courses(
-    trial: &mut Trial,
-    params: &SkillParams,
-    courses: &[Course],
-) -> Result<f64, TrialError> {
-    courses.iter().map(|c| evaluate(trial, params, c)).sum()
-}
-
-/// Cost of `params` on `course`: −progress, plus the fall penalty if it fell.
-pub fn evaluate(
-    trial: &mut Trial,
-    params: &SkillParams,
-    course: &Course,
-) -> Result<f64, TrialError> {
-    let rec = trial.run(
-        params,
-        Episode {
-            start: START,
-            lying: None,
-            settle_s: 1.0,
-            script: course.script(),
-        },
-    )?;
-    let mut cost = -progress(course, &rec);
-    if let Some(t) = rec.first_fall_s().or_else(|| {
-        // The script stops at the agent's own fall detection; a short recording is a fall too.
-        (rec.samples.last().map_or(0.0, |s| s.t) < course.duration_s() - 0.1)
-            .then(|| rec.samples.last().map_or(0.0, |s| s.t))
-    }) {
-        let duration = course.duration_s();
-        cost += FALL_PENALTY_PER_S * duration * (1.0 - 0.5 * t / duration);
-    }
-    Ok(cost)
 }
 
 fn to_normalised(params: &SkillParams, tunables: &[Tunable]) -> Vec<f64> {
@@ -203,6 +134,7 @@ fn box_penalty(x: &[f64]) -> f64 {
 pub fn optimize(
     start: &SkillParams,
     tunables: &[Tunable],
+    objective: &dyn Objective,
     options: &Options,
     mut report: impl FnMut(usize, f64, f64, &SkillParams),
 ) -> Result<Outcome, TrialError> {
@@ -210,7 +142,7 @@ pub fn optimize(
     let mut trials = (0..options.servers.max(1))
         .map(|_| Trial::start())
         .collect::<Result<Vec<_>, _>>()?;
-    let start_cost = evaluate_courses(&mut trials[0], start, &options.courses)?;
+    let start_cost = objective.cost(&mut trials[0], start)?;
     let mut best = (start_cost, start.clone());
     let mut es = CmaEs::new(
         to_normalised(start, tunables),
@@ -221,7 +153,7 @@ pub fn optimize(
     let mut history = Vec::new();
     for generation in 1..=options.generations {
         let xs = es.ask();
-        let costs = evaluate_all(&mut trials, start, &xs, tunables, &options.courses)?;
+        let costs = evaluate_all(&mut trials, start, &xs, tunables, objective)?;
         es.tell(&xs, &costs);
         let mean = costs.iter().sum::<f64>() / costs.len() as f64;
         for (x, &c) in xs.iter().zip(&costs) {
@@ -250,7 +182,7 @@ fn evaluate_all(
     base: &SkillParams,
     xs: &[Vec<f64>],
     tunables: &[Tunable],
-    courses: &[Course],
+    objective: &dyn Objective,
 ) -> Result<Vec<f64>, TrialError> {
     let next = Mutex::new(0usize);
     let costs = Mutex::new(vec![f64::INFINITY; xs.len()]);
@@ -267,7 +199,7 @@ fn evaluate_all(
                 };
                 let Some(x) = xs.get(i) else { break };
                 let params = from_normalised(base, x, tunables);
-                match evaluate_courses(trial, &params, courses) {
+                match objective.cost(trial, &params) {
                     Ok(c) => costs.lock().expect("cost lock")[i] = c + box_penalty(x),
                     Err(e) => {
                         *failure.lock().expect("failure lock") = Some(e);
@@ -284,33 +216,55 @@ fn evaluate_all(
 }
 
 /// Replace the values of `tunables` in the RON text of a parameter file by those of `best`,
-/// keeping every comment and the layout. Each tunable's name occurs once in the file.
+/// keeping every comment and the layout. Each tunable is found by its path: every field name in
+/// turn, each the first occurrence (outside comments) after the one before.
 pub fn write_back(text: &str, best: &SkillParams, tunables: &[Tunable]) -> Result<String, String> {
     let mut out = text.to_string();
     for t in tunables {
-        let key = format!("{}:", t.name);
-        let hits: Vec<usize> = out.match_indices(&key).map(|(i, _)| i).collect();
-        let &[at] = hits.as_slice() else {
-            return Err(format!(
-                "`{}` occurs {} times in the file, expected once",
-                t.name,
-                hits.len()
-            ));
-        };
-        let value_start = at + key.len();
+        let mut at = 0;
+        for field in t.path.split('.').map(str::trim) {
+            at = find_field(&out, at, field)
+                .ok_or_else(|| format!("`{}` ({}) is not in the file", t.name, t.path))?;
+        }
+        let value_start = at;
         let rest = &out[value_start..];
         let skip = rest.len() - rest.trim_start().len();
         let number_len = rest[skip..]
             .find(|c: char| !(c.is_ascii_digit() || matches!(c, '-' | '+' | '.' | 'e' | 'E')))
             .unwrap_or(rest.len() - skip);
-        let value = (t.get)(best);
-        let formatted = format!("{:.4}", value);
+        if number_len == 0 {
+            return Err(format!(
+                "`{}` ({}) is not a number in the file",
+                t.name, t.path
+            ));
+        }
+        let formatted = format!("{:.4}", (t.get)(best));
         out.replace_range(
             value_start + skip..value_start + skip + number_len,
             &formatted,
         );
     }
     Ok(out)
+}
+
+/// The position just after `field:` at or after `from`, skipping comments and longer names
+/// that end in `field`.
+fn find_field(text: &str, from: usize, field: &str) -> Option<usize> {
+    let key = format!("{field}:");
+    let mut search = from;
+    while let Some(i) = text[search..].find(&key).map(|i| i + search) {
+        let line_start = text[..i].rfind('\n').map_or(0, |n| n + 1);
+        let in_comment = text[line_start..i].contains("//");
+        let joined = text[..i]
+            .chars()
+            .next_back()
+            .is_some_and(|c| c.is_alphanumeric() || c == '_');
+        if !in_comment && !joined {
+            return Some(i + key.len());
+        }
+        search = i + key.len();
+    }
+    None
 }
 
 #[cfg(test)]
@@ -320,7 +274,7 @@ mod tests {
     #[test]
     fn write_back_changes_only_the_tuned_numbers() {
         let model = libero_model::RobotModel::builtin("T1").unwrap();
-        let text = include_str!("../../skills/params/t1.ron");
+        let text = include_str!("../../../skills/params/t1.ron");
         let mut p = SkillParams::builtin(&model).unwrap();
         p.walk.step_period_s = 0.3125;
         p.walk.balance.ankle_pitch_per_gyro = -0.05;
@@ -330,6 +284,25 @@ mod tests {
         assert_eq!(again.walk.balance.ankle_pitch_per_gyro, -0.05);
         assert_eq!(written.lines().count(), text.lines().count());
         assert!(written.contains("// Omnidirectional walk"));
+    }
+
+    #[test]
+    fn write_back_finds_a_field_by_its_path_among_equal_names() {
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let text = include_str!("../../../skills/params/t1.ron");
+        let mut p = SkillParams::builtin(&model).unwrap();
+        // `strike_height_m` is in both the short and the long kick.
+        p.kick.long.strike_height_m = 0.1234;
+        let written = write_back(text, &p, &kick::kick_tunables()).unwrap();
+        let again = SkillParams::from_ron("k.ron", &written, &model).unwrap();
+        assert_eq!(again.kick.long.strike_height_m, 0.1234);
+        let short = SkillParams::builtin(&model)
+            .unwrap()
+            .kick
+            .short
+            .strike_height_m;
+        assert_eq!(again.kick.short.strike_height_m, short);
+        assert_eq!(written.lines().count(), text.lines().count());
     }
 
     #[test]
