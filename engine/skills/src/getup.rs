@@ -4,7 +4,7 @@
 use crate::walk::balance::Attitude;
 use crate::walk::params::in_range;
 use libero_model::{Gains, RobotModel};
-use libero_world::{Posture, World};
+use libero_world::{BodyState, Posture, World};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -40,14 +40,57 @@ pub enum Condition {
     TorsoPitchBelow(f64),
     /// Torso within this many degrees of vertical (pitch and roll).
     UprightWithin(f64),
+    /// The torso's front within `within_deg` of pointing straight down (lying face down, not
+    /// on a side: there gravity has almost no x and z part and the pitch angle is noise), and
+    /// turning slower than `rate_below_deg_s`: a roll that is still going, or rocking back,
+    /// is not a start for the face-down motion.
+    FaceDown {
+        within_deg: f64,
+        rate_below_deg_s: f64,
+    },
+}
+
+/// What the `until` conditions read, all from the agent's own IMU.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sensed {
+    pub attitude: Attitude,
+    /// Angle between the torso's front (+x) and straight down [deg]: 0 face down, 90 on a
+    /// side, upright or head down, 180 on the back.
+    pub from_face_down_deg: f64,
+    /// Magnitude of the gyro's rate [deg/s].
+    pub rate_deg_s: f64,
+}
+
+impl Sensed {
+    pub fn from_body(body: &BodyState) -> Self {
+        let [gx, gy, gz] = body.gravity;
+        let norm = (gx * gx + gy * gy + gz * gz).sqrt();
+        // The specific force points up: face down it points along the torso's −x.
+        let from_face_down_deg = if norm > 1e-6 {
+            (-gx / norm).clamp(-1.0, 1.0).acos().to_degrees()
+        } else {
+            90.0
+        };
+        let [wx, wy, wz] = body.gyro;
+        Self {
+            attitude: Attitude::from_body(body),
+            from_face_down_deg,
+            rate_deg_s: (wx * wx + wy * wy + wz * wz).sqrt(),
+        }
+    }
 }
 
 impl Condition {
-    pub fn holds(self, a: &Attitude) -> bool {
+    pub fn holds(self, s: &Sensed) -> bool {
+        let a = &s.attitude;
         match self {
             Condition::TorsoPitchAbove(deg) => a.pitch_deg > deg,
             Condition::TorsoPitchBelow(deg) => a.pitch_deg < deg,
             Condition::UprightWithin(deg) => a.pitch_deg.abs() < deg && a.roll_deg.abs() < deg,
+            Condition::FaceDown {
+                within_deg,
+                rate_below_deg_s,
+            } => s.from_face_down_deg < within_deg && s.rate_deg_s < rate_below_deg_s,
         }
     }
 
@@ -57,6 +100,18 @@ impl Condition {
                 in_range(&format!("{at}.until"), d, -180.0, 180.0)
             }
             Condition::UprightWithin(d) => in_range(&format!("{at}.until"), d, 0.0, 90.0),
+            Condition::FaceDown {
+                within_deg,
+                rate_below_deg_s,
+            } => {
+                in_range(&format!("{at}.until.within_deg"), within_deg, 0.0, 90.0)?;
+                in_range(
+                    &format!("{at}.until.rate_below_deg_s"),
+                    rate_below_deg_s,
+                    0.0,
+                    1000.0,
+                )
+            }
         }
     }
 }
@@ -97,6 +152,12 @@ pub struct GetUpParams {
     pub rest_s: f64,
     #[serde(default)]
     pub balance: GetUpBalance,
+    /// When set, the back motion (a roll onto the front) runs straight on into the front
+    /// motion from this key frame, without the hand-off through the fall detector: the
+    /// roll's last frames then take the place of the front motion's opening frames, whose
+    /// time is saved.
+    #[serde(default)]
+    pub back_then_front_from: Option<usize>,
 }
 
 impl GetUpParams {
@@ -141,6 +202,14 @@ impl GetUpParams {
             in_range(&format!("get_up.balance.{name}"), v, -5.0, 5.0)?;
         }
         in_range("get_up.balance.max_deg", b.max_deg, 0.0, 45.0)?;
+        if let Some(k) = self.back_then_front_from {
+            if k >= self.front.len() {
+                return Err(format!(
+                    "get_up.back_then_front_from: {k} is past the front motion's {} key frames",
+                    self.front.len()
+                ));
+            }
+        }
         in_range("get_up.rest_s", self.rest_s, 0.0, 3.0)
     }
 }
@@ -229,16 +298,26 @@ impl GetUp {
             Lying::Front => &p.front,
             Lying::Back => &p.back,
         };
-        let attitude = Attitude::from_body(&world.body);
-        match step(run, motion, world.time, &attitude, model, pose) {
+        let sensed = Sensed::from_body(&world.body);
+        match step(run, motion, world.time, &sensed, model, pose) {
             Step::Playing => {
                 if let Some(lean) = motion.get(run.frame).and_then(|f| f.balance_pitch_deg) {
-                    balance(&p.balance, &attitude, lean, model, pose);
+                    balance(&p.balance, &sensed.attitude, lean, model, pose);
                 }
             }
-            // Played out, or a sensed condition never came: if still lying, start over
-            // from the new posture next cycle.
-            Step::Ended | Step::GaveUp => self.running = None,
+            Step::Ended => match (run.lying, p.back_then_front_from) {
+                // The roll is over (its last frame waited for face down): on into the
+                // front motion, from the pose the roll ended in.
+                (Lying::Back, Some(k)) => {
+                    run.lying = Lying::Front;
+                    run.frame = k;
+                    run.frame_started_s = world.time;
+                }
+                _ => self.running = None,
+            },
+            // A sensed condition never came: if still lying, start over from the new
+            // posture next cycle.
+            Step::GaveUp => self.running = None,
         }
         true
     }
@@ -272,7 +351,7 @@ fn step(
     run: &mut Run,
     motion: &[Keyframe],
     now: f64,
-    attitude: &Attitude,
+    sensed: &Sensed,
     model: &RobotModel,
     pose: &mut [f64],
 ) -> Step {
@@ -286,7 +365,7 @@ fn step(
         let done = t >= frame.duration_s
             && match frame.until {
                 None => true,
-                Some(c) if c.holds(attitude) => true,
+                Some(c) if c.holds(sensed) => true,
                 Some(_) if t >= frame.duration_s + frame.timeout_s => {
                     pose.copy_from_slice(&target);
                     return Step::GaveUp;
@@ -353,10 +432,14 @@ mod tests {
         }
     }
 
-    fn pitched(deg: f64) -> Attitude {
-        Attitude {
-            pitch_deg: deg,
-            ..Attitude::default()
+    fn pitched(deg: f64) -> Sensed {
+        Sensed {
+            attitude: Attitude {
+                pitch_deg: deg,
+                ..Attitude::default()
+            },
+            from_face_down_deg: 90.0,
+            rate_deg_s: 0.0,
         }
     }
 
@@ -418,10 +501,79 @@ mod tests {
             max_deg: 4.0,
         };
         let mut pose = vec![0.0; model.joints.len()];
-        balance(&b, &pitched(15.0), 5.0, &model, &mut pose);
+        balance(&b, &pitched(15.0).attitude, 5.0, &model, &mut pose);
         let at = |n: &str| pose[model.joint_id(n).unwrap()];
         assert_eq!(at("right_ankle_pitch"), 4.0, "clamped to max_deg");
         assert!((at("left_hip_pitch") - 2.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn face_down_is_told_from_lying_on_a_side() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut body = BodyState::new(&model);
+        let sensed = |body: &BodyState| Sensed::from_body(body);
+        body.gravity = [-9.81, 0.0, 0.0];
+        assert!(sensed(&body).from_face_down_deg < 1e-9);
+        // On the right side, slightly nose down: pitch reads far above 60° ...
+        body.gravity = [-0.5, 9.8, 0.1];
+        let side = sensed(&body);
+        assert!(side.attitude.pitch_deg > 60.0, "{side:?}");
+        assert!(Condition::TorsoPitchAbove(60.0).holds(&side));
+        // ... but the torso's front is nearly level: not face down.
+        let face_down = Condition::FaceDown {
+            within_deg: 35.0,
+            rate_below_deg_s: 40.0,
+        };
+        assert!(!face_down.holds(&side), "{side:?}");
+        // Face down with 20° of roll towards the side still counts ...
+        let roll = 20f64.to_radians();
+        body.gravity = [-9.81 * roll.cos(), 9.81 * roll.sin(), 0.0];
+        assert!(face_down.holds(&sensed(&body)));
+        // ... unless the body is still rolling.
+        body.gyro = [50.0, 10.0, 0.0];
+        assert!(!face_down.holds(&sensed(&body)));
+        // On the back: as far from face down as can be.
+        body.gravity = [9.81, 0.0, 0.0];
+        assert!((sensed(&body).from_face_down_deg - 180.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_back_motion_runs_on_into_the_front_motion_when_asked() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let knee = model.joint_id("left_knee").unwrap();
+        let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+        p.rest_s = 0.0;
+        p.back = vec![frame(0.1, 20.0, None)];
+        p.front = vec![frame(0.1, 50.0, None), frame(0.2, 80.0, None)];
+        p.back_then_front_from = Some(1);
+        let mut world = World::new(&model, "t", 1);
+        world.body.gravity = [9.81, 0.0, 0.0];
+        world.body.posture = Posture::FallenBack;
+        let mut getup = GetUp::new();
+        let mut pose = vec![0.0; model.joints.len()];
+        let mut at = |t: f64, getup: &mut GetUp, pose: &mut Vec<f64>| {
+            world.time = t;
+            assert!(getup.update(&world, false, &p, &model, pose));
+            pose[knee]
+        };
+        at(0.0, &mut getup, &mut pose);
+        assert_eq!(
+            at(0.1, &mut getup, &mut pose),
+            20.0,
+            "the roll has played out"
+        );
+        // Still lying on the back as far as the detector knows, yet the front motion goes
+        // on from its frame 1 (80°), skipping frame 0 (50°).
+        assert!(
+            (at(0.2, &mut getup, &mut pose) - 50.0).abs() < 1e-9,
+            "halfway 20 → 80"
+        );
+        assert_eq!(at(0.3, &mut getup, &mut pose), 80.0);
+        p.back_then_front_from = Some(2);
+        assert!(p
+            .validate(&model)
+            .unwrap_err()
+            .contains("back_then_front_from"));
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Experiment helper: place the robot lying and watch the get-up.
 //! `cargo run -p libero-trial --example getup_probe -- front|back [params.ron] [heading] [roll] [x] [y]`
-//! With `SERIES=<n>` (and optionally `SEED`), runs `n` varied placements and prints one line each.
+//! With `SERIES=<n>` (and optionally `SEED`), runs `n` varied placements and prints one line each;
+//! with `SERIES=<n> PICK=<k>` only the k-th of those placements, traced like a single one.
 use libero_skills::getup::Lying;
 use libero_skills::{Intent, SkillParams};
 use libero_trial::getup_bench::{self, Placement};
@@ -20,11 +21,13 @@ fn main() {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),
         None => SkillParams::builtin(&model).unwrap(),
     };
-    if let Some(n) = std::env::var("SERIES").ok().and_then(|s| s.parse().ok()) {
-        let seed = std::env::var("SEED")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(1);
+    let series: Option<usize> = std::env::var("SERIES").ok().and_then(|s| s.parse().ok());
+    let seed = std::env::var("SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let pick: Option<usize> = std::env::var("PICK").ok().and_then(|s| s.parse().ok());
+    if let (Some(n), None) = (series, pick) {
         let mut runs = Vec::new();
         for p in getup_bench::varied_placements(side, n, seed) {
             let run = getup_bench::get_up(&mut trial, &params, p, 5.0).unwrap();
@@ -33,18 +36,31 @@ fn main() {
                 "heading {:6.1} roll {:5.1} -> stood {:?} (end z {:.3} tilt {:.1})",
                 p.start[2], p.lying.roll_deg, run.stood_at, last.position[2], last.tilt_deg
             );
+            // TRACE_FAIL=1: the ground truth of a failed get-up, every 5th cycle.
+            if !run.succeeded() && std::env::var("TRACE_FAIL").is_ok() {
+                for s in run.recording.samples.iter().step_by(5) {
+                    println!(
+                        "  t {:5.2} z {:5.3} tilt {:5.1} pitch {:6.1} roll {:6.1} {:?}",
+                        s.t, s.position[2], s.tilt_deg, s.pitch_deg, s.roll_deg, s.posture
+                    );
+                }
+            }
             runs.push(run);
         }
         println!("{:?}", getup_bench::summarize(&runs));
         return;
     }
-    let placement = Placement {
-        lying: LyingPlacement {
-            side,
-            roll_deg: num(4, 0.0),
+    let placement = match (series, pick) {
+        (Some(n), Some(k)) => getup_bench::varied_placements(side, n, seed)[k],
+        _ => Placement {
+            lying: LyingPlacement {
+                side,
+                roll_deg: num(4, 0.0),
+            },
+            start: [num(5, -8.0), num(6, 0.0), num(3, 0.0)],
         },
-        start: [num(5, -8.0), num(6, 0.0), num(3, 0.0)],
     };
+    println!("placement {placement:?}");
     let every: usize = std::env::var("EVERY")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -55,6 +71,8 @@ fn main() {
         .split(',')
         .filter_map(|n| model.joint_id(n.trim()))
         .collect();
+    // The agent's own attitude (what `until` conditions read), with JOINTS or IMU=1.
+    let imu = !joints.is_empty() || std::env::var("IMU").is_ok();
     let mut cycle = 0usize;
     let recording = trial
         .run(
@@ -64,12 +82,20 @@ fn main() {
                 lying: Some(placement.lying),
                 settle_s: 0.0,
                 script: move |w: &libero_world::World, t: f64| {
-                    if cycle.is_multiple_of(every) && !joints.is_empty() {
+                    if cycle.is_multiple_of(every) && imu {
                         let q: Vec<String> = joints
                             .iter()
                             .map(|&j| format!("{:6.1}", w.body.joint_angles[j]))
                             .collect();
-                        println!("  t {t:5.2} q {}", q.join(" "));
+                        let s = libero_skills::getup::Sensed::from_body(&w.body);
+                        println!(
+                            "  t {t:5.2} imu pitch {:6.1} roll {:6.1} from face down {:5.1} rate {:5.0} q {}",
+                            s.attitude.pitch_deg,
+                            s.attitude.roll_deg,
+                            s.from_face_down_deg,
+                            s.rate_deg_s,
+                            q.join(" ")
+                        );
                     }
                     cycle += 1;
                     (t < 6.6).then(Intent::default)

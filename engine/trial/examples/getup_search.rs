@@ -98,7 +98,8 @@ fn threshold(c: &mut Condition) -> &mut f64 {
     match c {
         Condition::TorsoPitchAbove(v)
         | Condition::TorsoPitchBelow(v)
-        | Condition::UprightWithin(v) => v,
+        | Condition::UprightWithin(v)
+        | Condition::FaceDown { within_deg: v, .. } => v,
     }
 }
 

@@ -97,6 +97,20 @@ fn bench_get_up(params: &SkillParams, args: &BenchArgs) -> CliResult {
                 placement.lying.roll_deg,
                 run.stood_at
             );
+            if !run.succeeded() {
+                // The ground truth of a miss, to tell a stalled roll from a failed pop.
+                for s in run.recording.samples.iter().step_by(5) {
+                    log::info!(
+                        "  t {:5.2} z {:5.3} tilt {:5.1} pitch {:6.1} roll {:6.1} {:?}",
+                        s.t,
+                        s.position[2],
+                        s.tilt_deg,
+                        s.pitch_deg,
+                        s.roll_deg,
+                        s.posture
+                    );
+                }
+            }
             done.push(run);
         }
         let s = getup_bench::summarize(&done);
