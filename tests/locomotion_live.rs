@@ -8,18 +8,20 @@
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
 use libero_trial::{bench, Trial};
+use std::sync::MutexGuard;
 
-fn setup() -> (Trial, SkillParams) {
-    let _ = env_logger::builder().is_test(true).try_init();
+/// This test's turn on the machine (the guard, dropped last), and a trial on its own server.
+fn setup() -> (MutexGuard<'static, ()>, Trial, SkillParams) {
+    let turn = libero_tests::live_turn();
     let trial = Trial::start().expect("server starts");
     let model = RobotModel::builtin("T1").unwrap();
     let params = SkillParams::builtin(&model).unwrap();
-    (trial, params)
+    (turn, trial, params)
 }
 
 #[test]
 fn walks_forward_for_ten_seconds_without_falling() {
-    let (mut trial, params) = setup();
+    let (_turn, mut trial, params) = setup();
     let f = bench::forward(&mut trial, &params, 10.0, 10.0).unwrap();
     eprintln!(
         "forward {:.3} m/s over {:.1} s, fell at {:?}",
@@ -31,7 +33,7 @@ fn walks_forward_for_ten_seconds_without_falling() {
 
 #[test]
 fn walks_sideways_and_turns_on_the_spot_without_falling() {
-    let (mut trial, params) = setup();
+    let (_turn, mut trial, params) = setup();
     let s = bench::sideways(&mut trial, &params, 10.0).unwrap();
     eprintln!("sideways {:.3} m/s, fell at {:?}", s.speed, s.fell_at);
     assert_eq!(s.fell_at, None);
@@ -50,7 +52,7 @@ fn walks_sideways_and_turns_on_the_spot_without_falling() {
 fn gets_up_from_the_front_then_walks() {
     use libero_skills::getup::Lying;
     use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
-    let (mut trial, params) = setup();
+    let (_turn, mut trial, params) = setup();
     for placement in getup_bench::varied_placements(Lying::Front, 3, 5) {
         let run = getup_bench::get_up(&mut trial, &params, placement, GET_UP_LIMIT_S).unwrap();
         eprintln!("{placement:?}: stood at {:?}", run.stood_at);
@@ -87,7 +89,7 @@ fn gets_up_from_the_front_then_walks() {
 fn gets_up_from_the_back() {
     use libero_skills::getup::Lying;
     use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
-    let (mut trial, params) = setup();
+    let (_turn, mut trial, params) = setup();
     let mut stood = 0;
     for placement in getup_bench::varied_placements(Lying::Back, 3, 6) {
         let run = getup_bench::get_up(&mut trial, &params, placement, GET_UP_LIMIT_S).unwrap();
@@ -109,7 +111,7 @@ fn gets_up_from_the_back() {
 #[test]
 fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
     use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
-    let (mut trial, params) = setup();
+    let (_turn, mut trial, params) = setup();
     let setups = [
         // Behind the ball, off to one side.
         KickSetup {

@@ -34,6 +34,16 @@ pub fn fast_server() -> LiveServer {
 
 static LIVE_TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
+/// This test's turn on the machine, for live tests that start their own server (skill trials):
+/// held while the test runs. A get-up is a dynamic motion whose actions must arrive on their
+/// cycle; with five trials side by side on two cores the agents miss cycles and it fails.
+pub fn live_turn() -> std::sync::MutexGuard<'static, ()> {
+    init_logging();
+    LIVE_TURN
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
 /// A server plus this test's turn on the machine.
 pub struct LiveServer {
     pub server: ServerProcess,

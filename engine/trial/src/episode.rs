@@ -296,19 +296,25 @@ impl Trial {
             monitor: Arc::clone(&self.monitor),
             status: Arc::clone(&self.status),
         };
+        let stats = Arc::new(AgentStats::default());
         let mut player = Player::new(
             Arc::clone(&self.model),
             skills,
             Box::new(decider),
             TEAM,
             UNUM,
-            Arc::new(AgentStats::default()),
+            Arc::clone(&stats),
         );
         let mut config = AgentConfig::new("127.0.0.1", self.server.agent_port);
         config.max_connect_failures = Some(20);
         config.silence_timeout = std::time::Duration::from_secs(5);
         run_agent(&config, &mut player, &shutdown)?;
         drop(player);
+        // Dynamic motions (get-ups, kicks) depend on every cycle's action arriving on time.
+        let missed = AgentStats::get(&stats.missed_cycles);
+        if missed > 0 {
+            log::warn!("trial: the agent missed {missed} server cycles in this episode");
+        }
         let recording = std::mem::take(&mut *recording.lock().expect("recording lock"));
         if recording.samples.is_empty() {
             return Err(TrialError::Empty);
