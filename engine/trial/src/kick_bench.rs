@@ -63,19 +63,25 @@ const SEARCH_TURN_DEG_S: f64 = 40.0;
 /// A ball unseen this long is searched for again [s] (the default `lost_after` of `KickTo`).
 const LOST_AFTER_S: f64 = 4.0;
 
+/// A seeded kick direction [deg] and ball spot [m]: 4 m back from the centre along the kick
+/// (so 12 m kicks stay on the field), give or take 3 m along x and 2 m along y.
+fn kick_spot(rng: &mut Rng) -> (f64, [f64; 2]) {
+    let direction_deg = 360.0 * rng.uniform() - 180.0;
+    let d = direction_deg.to_radians();
+    let ball = [
+        -4.0 * d.cos() + 6.0 * rng.uniform() - 3.0,
+        -4.0 * d.sin() + 4.0 * rng.uniform() - 2.0,
+    ];
+    (direction_deg, ball)
+}
+
 /// `count` kicks from all round the ball, seeded: ball spots, robot places and headings, and
 /// kick directions vary; each kick stays well inside the field.
 pub fn setups(count: usize, seed: u64, distance_m: f64) -> Vec<KickSetup> {
     let mut rng = Rng::new(seed);
     (0..count)
         .map(|_| {
-            let direction_deg = 360.0 * rng.uniform() - 180.0;
-            let d = direction_deg.to_radians();
-            // Start 4 m back from the centre along the kick, so 12 m kicks stay on the field.
-            let ball = [
-                -4.0 * d.cos() + 6.0 * rng.uniform() - 3.0,
-                -4.0 * d.sin() + 4.0 * rng.uniform() - 2.0,
-            ];
+            let (direction_deg, ball) = kick_spot(&mut rng);
             let bearing = std::f64::consts::TAU * rng.uniform();
             let range = 1.0 + 1.5 * rng.uniform();
             let robot = [
@@ -106,12 +112,7 @@ pub fn setups_at_place(
     let mut rng = Rng::new(seed);
     (0..count)
         .map(|k| {
-            let direction_deg = 360.0 * rng.uniform() - 180.0;
-            let d = direction_deg.to_radians();
-            let ball = [
-                -4.0 * d.cos() + 6.0 * rng.uniform() - 3.0,
-                -4.0 * d.sin() + 4.0 * rng.uniform() - 2.0,
-            ];
+            let (direction_deg, ball) = kick_spot(&mut rng);
             let side = if k % 2 == 0 { 1.0 } else { -1.0 };
             let mut off = |tolerance: f64| tolerance * (2.0 * rng.uniform() - 1.0);
             let along = approach.ball_ahead_m + off(approach.ready_along_m);
