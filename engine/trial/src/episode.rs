@@ -286,13 +286,7 @@ impl Trial {
             recording: Arc::clone(&recording),
             shutdown: Arc::clone(&shutdown),
             placed_at: None,
-            place: Placement {
-                command: place,
-                at: [x, y],
-                lying: episode.lying.is_some(),
-                sent: 0,
-                last_sent_at: None,
-            },
+            place_command: Some(place),
             monitor: Arc::clone(&self.monitor),
             status: Arc::clone(&self.status),
         };
@@ -329,9 +323,9 @@ struct ScriptedDecider<S> {
     settle_s: f64,
     recording: Arc<Mutex<Recording>>,
     shutdown: Arc<AtomicBool>,
-    /// Server time at which the ground truth showed the robot placed.
+    /// Server time at which the placement was sent.
     placed_at: Option<f64>,
-    place: Placement,
+    place_command: Option<String>,
     monitor: Arc<Mutex<Monitor>>,
     status: Arc<Mutex<SkillStatus>>,
 }
@@ -342,7 +336,22 @@ where
 {
     fn decide(&mut self, world: &World) -> Intent {
         let stand = Intent::default();
-        let Some(placed) = self.placed_at.or_else(|| self.place(world)) else {
+        if let Some(command) = self.place_command.take() {
+            let sent = match self.monitor.lock() {
+                Ok(mut m) => m.send(&command),
+                Err(_) => Err(std::io::Error::other("monitor lock poisoned")),
+            };
+            match sent {
+                Ok(()) => {}
+                Err(e) => {
+                    log::error!("trial: cannot place the robot: {e}");
+                    self.shutdown.store(true, Ordering::Relaxed);
+                }
+            }
+            self.placed_at = Some(world.time);
+            return stand;
+        }
+        let Some(placed) = self.placed_at else {
             return stand;
         };
         let t = world.time - placed - self.settle_s;
@@ -367,66 +376,6 @@ where
         if let Ok(mut s) = self.status.lock() {
             *s = *status;
         }
-    }
-}
-
-/// The monitor command that puts the robot where an episode starts, and its progress.
-struct Placement {
-    command: String,
-    /// Where the torso goes [m].
-    at: [f64; 2],
-    lying: bool,
-    sent: u32,
-    last_sent_at: Option<f64>,
-}
-
-/// Placement commands are sent again this often until the robot is seen placed [s]
-/// (rcssservermj sometimes ignores a monitor move right after an agent connects).
-const PLACE_RESEND_S: f64 = 0.5;
-/// ... and at most this many times.
-const PLACE_ATTEMPTS: u32 = 10;
-/// Seen placed: the torso this close to the target on the ground [m], and lying ones this low.
-const PLACED_WITHIN_M: f64 = 0.15;
-const PLACED_LYING_BELOW_M: f64 = 0.45;
-
-impl<S> ScriptedDecider<S> {
-    /// Send the placement (again, if the server has not carried it out) and return the time it
-    /// took effect, once the ground truth shows it.
-    fn place(&mut self, world: &World) -> Option<f64> {
-        let p = &mut self.place;
-        if p.sent > 0 {
-            if let Some([x, y, z]) = world.truth.torso_position {
-                let near = (x - p.at[0]).hypot(y - p.at[1]) < PLACED_WITHIN_M;
-                if near && (!p.lying || z < PLACED_LYING_BELOW_M) {
-                    self.placed_at = Some(world.time);
-                    return self.placed_at;
-                }
-            }
-        }
-        if p.last_sent_at
-            .is_some_and(|at| world.time - at < PLACE_RESEND_S)
-        {
-            return None;
-        }
-        if p.sent >= PLACE_ATTEMPTS {
-            log::error!("trial: the robot was not placed after {} commands", p.sent);
-            self.shutdown.store(true, Ordering::Relaxed);
-            return None;
-        }
-        let sent = match self.monitor.lock() {
-            Ok(mut m) => m.send(&p.command),
-            Err(_) => Err(std::io::Error::other("monitor lock poisoned")),
-        };
-        if let Err(e) = sent {
-            log::error!("trial: cannot place the robot: {e}");
-            self.shutdown.store(true, Ordering::Relaxed);
-        }
-        if p.sent > 0 {
-            log::warn!("trial: placement not carried out; sending it again");
-        }
-        p.sent += 1;
-        p.last_sent_at = Some(world.time);
-        None
     }
 }
 
