@@ -19,6 +19,24 @@ fn setup() -> (MutexGuard<'static, ()>, Trial, SkillParams) {
     (turn, trial, params)
 }
 
+/// Three get-ups from `side`, placed by `seed`: how many stood within the bench's 5 s.
+fn get_ups(
+    trial: &mut Trial,
+    params: &SkillParams,
+    side: libero_skills::getup::Lying,
+    seed: u64,
+) -> usize {
+    use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
+    getup_bench::varied_placements(side, 3, seed)
+        .into_iter()
+        .filter(|&placement| {
+            let run = getup_bench::get_up(trial, params, placement, GET_UP_LIMIT_S).unwrap();
+            eprintln!("{placement:?}: stood at {:?}", run.stood_at);
+            run.succeeded()
+        })
+        .count()
+}
+
 #[test]
 fn walks_forward_for_ten_seconds_without_falling() {
     let (_turn, mut trial, params) = setup();
@@ -55,12 +73,7 @@ fn gets_up_from_the_front_then_walks() {
     use libero_skills::getup::Lying;
     use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
     let (_turn, mut trial, params) = setup();
-    let mut stood = 0;
-    for placement in getup_bench::varied_placements(Lying::Front, 3, 5) {
-        let run = getup_bench::get_up(&mut trial, &params, placement, GET_UP_LIMIT_S).unwrap();
-        eprintln!("{placement:?}: stood at {:?}", run.stood_at);
-        stood += usize::from(run.succeeded());
-    }
+    let stood = get_ups(&mut trial, &params, Lying::Front, 5);
     assert!(
         stood >= 2,
         "only {stood} of 3 front get-ups within {GET_UP_LIMIT_S} s"
@@ -92,14 +105,9 @@ fn gets_up_from_the_front_then_walks() {
 #[test]
 fn gets_up_from_the_back() {
     use libero_skills::getup::Lying;
-    use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
+    use libero_trial::getup_bench::GET_UP_LIMIT_S;
     let (_turn, mut trial, params) = setup();
-    let mut stood = 0;
-    for placement in getup_bench::varied_placements(Lying::Back, 3, 6) {
-        let run = getup_bench::get_up(&mut trial, &params, placement, GET_UP_LIMIT_S).unwrap();
-        eprintln!("{placement:?}: stood at {:?}", run.stood_at);
-        stood += usize::from(run.succeeded());
-    }
+    let stood = get_ups(&mut trial, &params, Lying::Back, 6);
     assert!(
         stood >= 2,
         "only {stood} of 3 back get-ups within {GET_UP_LIMIT_S} s"

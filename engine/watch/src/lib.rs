@@ -172,22 +172,23 @@ mod tests {
         false
     }
 
+    /// A watch on `file` that counts its reloads.
+    fn counting_watch(file: &Path, debounce: Duration) -> (FileWatch, Arc<AtomicUsize>) {
+        let count = Arc::new(AtomicUsize::new(0));
+        let c = Arc::clone(&count);
+        let watch = FileWatch::start("test-watch", &[file.to_path_buf()], debounce, move || {
+            c.fetch_add(1, Ordering::SeqCst);
+        })
+        .unwrap();
+        (watch, count)
+    }
+
     #[test]
     fn a_burst_of_writes_to_a_watched_file_reloads_once() {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join("params.ron");
         std::fs::write(&file, "a").unwrap();
-        let count = Arc::new(AtomicUsize::new(0));
-        let c = Arc::clone(&count);
-        let _watch = FileWatch::start(
-            "test-watch",
-            std::slice::from_ref(&file),
-            Duration::from_millis(200),
-            move || {
-                c.fetch_add(1, Ordering::SeqCst);
-            },
-        )
-        .unwrap();
+        let (_watch, count) = counting_watch(&file, Duration::from_millis(200));
         for text in ["b", "bc", "bcd"] {
             std::fs::write(&file, text).unwrap();
             std::thread::sleep(Duration::from_millis(20));
@@ -202,17 +203,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join("t1.ron");
         std::fs::write(&file, "a").unwrap();
-        let count = Arc::new(AtomicUsize::new(0));
-        let c = Arc::clone(&count);
-        let _watch = FileWatch::start(
-            "test-watch",
-            std::slice::from_ref(&file),
-            Duration::from_millis(50),
-            move || {
-                c.fetch_add(1, Ordering::SeqCst);
-            },
-        )
-        .unwrap();
+        let (_watch, count) = counting_watch(&file, Duration::from_millis(50));
         std::fs::write(dir.path().join("other.ron"), "x").unwrap();
         std::thread::sleep(Duration::from_millis(300));
         assert_eq!(count.load(Ordering::SeqCst), 0, "a sibling's edit reloaded");
