@@ -89,8 +89,9 @@ fn main() {
                             .collect();
                         let s = libero_skills::getup::Sensed::from_body(&w.body);
                         println!(
-                            "  t {t:5.2} imu pitch {:6.1} roll {:6.1} from face down {:5.1} rate {:5.0} q {}",
+                            "  t {t:5.2} imu pitch {:6.1} filtered {:6.1} roll {:6.1} from face down {:5.1} rate {:5.0} q {}",
                             s.attitude.pitch_deg,
+                            w.me.pitch_deg,
                             s.attitude.roll_deg,
                             s.from_face_down_deg,
                             s.rate_deg_s,

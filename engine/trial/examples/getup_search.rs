@@ -191,6 +191,12 @@ fn print_motion(p: &mut SkillParams, side: Lying) {
         let mut extra = String::new();
         if let Some(c) = f.until {
             extra += &format!(", until: Some({c:?}), timeout_s: {:.2}", f.timeout_s);
+            if f.hold_s > 0.0 {
+                extra += &format!(", hold_s: {:.2}", f.hold_s);
+            }
+            if let Some(next) = &f.on_timeout {
+                extra += &format!(", on_timeout: Some({next:?})");
+            }
         }
         if let Some(l) = f.balance_pitch_deg {
             extra += &format!(", balance_pitch_deg: Some({l:.1})");

@@ -1,0 +1,261 @@
+//! Getting up from lying: key-frame motions from the parameter file, one for lying face down
+//! and one for lying on the back, started by the fall detector. A frame that waits for an IMU
+//! condition may switch to a recovery motion when the condition does not come.
+
+mod motion;
+#[cfg(test)]
+mod tests;
+
+pub use motion::{Condition, GetUpBalance, GetUpParams, Keyframe, Sensed};
+
+use crate::walk::balance::Attitude;
+use libero_model::RobotModel;
+use libero_world::{Posture, World};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Lying {
+    Front,
+    Back,
+}
+
+/// A get-up in progress.
+#[derive(Debug, Clone)]
+pub struct GetUp {
+    running: Option<Run>,
+    /// Since when the fall detector has reported lying without a break [s].
+    lying_since: Option<f64>,
+}
+
+#[derive(Debug, Clone)]
+struct Run {
+    motion: Motion,
+    /// The key frame being played, when it started, and the pose it starts from (the
+    /// measured angles for the first frame, the previous frame's target after that).
+    frame: usize,
+    frame_started_s: f64,
+    from: Vec<f64>,
+    /// Since when the frame's `until` has held without a break.
+    held_since: Option<f64>,
+}
+
+/// Which motion of the parameter file a run plays.
+#[derive(Debug, Clone, PartialEq)]
+enum Motion {
+    Front,
+    Back,
+    Recover(String),
+}
+
+impl Motion {
+    fn of(lying: Lying) -> Self {
+        match lying {
+            Lying::Front => Motion::Front,
+            Lying::Back => Motion::Back,
+        }
+    }
+
+    /// Its key frames; none when a reload removed a recovery motion mid-run (it then ends).
+    fn frames<'p>(&self, p: &'p GetUpParams) -> &'p [Keyframe] {
+        match self {
+            Motion::Front => &p.front,
+            Motion::Back => &p.back,
+            Motion::Recover(name) => p.recover.get(name).map_or(&[], Vec::as_slice),
+        }
+    }
+}
+
+impl GetUp {
+    pub fn new() -> Self {
+        Self {
+            running: None,
+            lying_since: None,
+        }
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// Which way the robot lies, if it does. Lying on a side counts as the back: the back
+    /// motion starts by rolling the body flat.
+    pub fn lying(posture: Posture) -> Option<Lying> {
+        match posture {
+            Posture::Upright => None,
+            Posture::FallenFront => Some(Lying::Front),
+            Posture::FallenBack | Posture::FallenSide => Some(Lying::Back),
+        }
+    }
+
+    /// One cycle: start when lying (or asked to), play the motion, and finish when it has
+    /// played out. Returns false when no get-up is running, leaving `pose` alone.
+    pub fn update(
+        &mut self,
+        world: &World,
+        requested: bool,
+        p: &GetUpParams,
+        model: &RobotModel,
+        pose: &mut [f64],
+    ) -> bool {
+        let lying = Self::lying(world.body.posture);
+        self.lying_since = match (lying, self.lying_since) {
+            (Some(_), Some(since)) => Some(since),
+            (Some(_), None) => Some(world.time),
+            (None, _) => None,
+        };
+        if self.running.is_none() {
+            // Start only once the detector has reported lying for `rest_s` (or at once when
+            // asked): a jolt, e.g. being placed by the referee, can fake a fall for a moment,
+            // and a get-up started while standing throws the robot down.
+            let settled = self
+                .lying_since
+                .is_some_and(|since| world.time - since >= p.rest_s);
+            let Some(lying) = lying.filter(|_| settled || requested) else {
+                return false;
+            };
+            self.running = Some(Run {
+                motion: Motion::of(lying),
+                frame: 0,
+                frame_started_s: world.time,
+                from: world.body.joint_angles.clone(),
+                held_since: None,
+            });
+        }
+        let run = self.running.as_mut().expect("started above");
+        let motion = run.motion.frames(p);
+        let sensed = Sensed::from_body(&world.body);
+        match step(run, motion, world.time, &sensed, model, pose) {
+            Step::Playing => {
+                if let Some(lean) = motion.get(run.frame).and_then(|f| f.balance_pitch_deg) {
+                    balance(&p.balance, &sensed.attitude, lean, model, pose);
+                }
+            }
+            Step::Ended => match (&run.motion, p.back_then_front_from) {
+                // The roll is over (its last frame waited for face down): on into the
+                // front motion, from the pose the roll ended in.
+                (Motion::Back, Some(k)) => run.switch_to(Motion::Front, k, world.time),
+                _ => self.running = None,
+            },
+            // A sensed condition never came: play the frame's recovery motion from the pose
+            // held now, or, without one, start over next cycle from the new posture if still
+            // lying.
+            Step::TimedOut(Some(recovery)) => {
+                run.switch_to(Motion::Recover(recovery), 0, world.time)
+            }
+            Step::TimedOut(None) => self.running = None,
+        }
+        true
+    }
+
+    /// The recovery motion being played, if any (for traces and tests).
+    pub fn recovering(&self) -> Option<&str> {
+        match &self.running.as_ref()?.motion {
+            Motion::Recover(name) => Some(name),
+            _ => None,
+        }
+    }
+}
+
+impl Run {
+    /// Go on with `motion` from its frame `frame`, starting from the pose reached so far.
+    fn switch_to(&mut self, motion: Motion, frame: usize, now: f64) {
+        self.motion = motion;
+        self.frame = frame;
+        self.frame_started_s = now;
+        self.held_since = None;
+    }
+}
+
+impl Default for GetUp {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+enum Step {
+    Playing,
+    Ended,
+    /// A frame's `until` did not come in time; its `on_timeout` motion, if it has one.
+    TimedOut(Option<String>),
+}
+
+fn target_of(frame: &Keyframe, from: &[f64], model: &RobotModel) -> Vec<f64> {
+    let mut target = from.to_vec();
+    for (joint, &angle) in &frame.pose {
+        if let Some(id) = model.joint_id(joint) {
+            target[id] = angle;
+        }
+    }
+    target
+}
+
+/// Advance `run` to `now` and write its pose: frames end after `duration_s`, or for a frame
+/// with `until`, once the condition has held for `hold_s` after that.
+fn step(
+    run: &mut Run,
+    motion: &[Keyframe],
+    now: f64,
+    sensed: &Sensed,
+    model: &RobotModel,
+    pose: &mut [f64],
+) -> Step {
+    loop {
+        let Some(frame) = motion.get(run.frame) else {
+            pose.copy_from_slice(&run.from);
+            return Step::Ended;
+        };
+        let target = target_of(frame, &run.from, model);
+        let t = now - run.frame_started_s;
+        let done = t >= frame.duration_s
+            && match frame.until {
+                None => true,
+                Some(c) => {
+                    run.held_since = c.holds(sensed).then(|| run.held_since.unwrap_or(now));
+                    // (A hair of slack: cycle times arrive rounded to 10 ms.)
+                    let held = run
+                        .held_since
+                        .is_some_and(|since| now - since >= frame.hold_s - 1e-6);
+                    if !held && t >= frame.duration_s + frame.timeout_s {
+                        pose.copy_from_slice(&target);
+                        run.from = target;
+                        return Step::TimedOut(frame.on_timeout.clone());
+                    }
+                    held
+                }
+            };
+        if !done {
+            let s = (t / frame.duration_s).clamp(0.0, 1.0);
+            let w = s * s * (3.0 - 2.0 * s);
+            for ((q, a), b) in pose.iter_mut().zip(&run.from).zip(&target) {
+                *q = a + (b - a) * w;
+            }
+            return Step::Playing;
+        }
+        // A timed frame ends at its nominal end; a sensed one when the condition came.
+        run.frame_started_s = if frame.until.is_some() {
+            now
+        } else {
+            run.frame_started_s + frame.duration_s
+        };
+        run.frame += 1;
+        run.from = target;
+        run.held_since = None;
+    }
+}
+
+/// Ankle and hip strategies against the torso pitch error during a balanced frame.
+fn balance(b: &GetUpBalance, a: &Attitude, lean_deg: f64, model: &RobotModel, pose: &mut [f64]) {
+    let error = a.pitch_deg - lean_deg;
+    let rate = a.pitch_rate_deg_s;
+    let limit = |v: f64| v.clamp(-b.max_deg, b.max_deg);
+    // Leaning too far forward: toes down (ankle +) and hips back (hip pitch +) push it back.
+    let ankle = limit(b.ankle_per_deg * error + b.ankle_per_gyro * rate);
+    let hip = limit(b.hip_per_deg * error + b.hip_per_gyro * rate);
+    for side in ["left", "right"] {
+        for (joint, offset) in [("ankle_pitch", ankle), ("hip_pitch", hip)] {
+            if let Some(id) = model.joint_id(&format!("{side}_{joint}")) {
+                let (lo, hi) = model.joints[id].limits_deg;
+                pose[id] = (pose[id] + offset).clamp(lo, hi);
+            }
+        }
+    }
+}

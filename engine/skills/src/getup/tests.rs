@@ -1,0 +1,255 @@
+use super::*;
+use libero_model::RobotModel;
+use libero_world::{BodyState, Posture, World};
+use std::collections::BTreeMap;
+
+fn frame(duration_s: f64, knee: f64, until: Option<Condition>) -> Keyframe {
+    Keyframe {
+        duration_s,
+        pose: BTreeMap::from([("left_knee".to_string(), knee)]),
+        until,
+        timeout_s: 0.5,
+        hold_s: 0.0,
+        on_timeout: None,
+        balance_pitch_deg: None,
+    }
+}
+
+fn start(model: &RobotModel) -> Run {
+    Run {
+        motion: Motion::Front,
+        frame: 0,
+        frame_started_s: 0.0,
+        from: vec![0.0; model.joints.len()],
+        held_since: None,
+    }
+}
+
+fn pitched(deg: f64) -> Sensed {
+    Sensed {
+        attitude: Attitude {
+            pitch_deg: deg,
+            ..Attitude::default()
+        },
+        from_face_down_deg: 90.0,
+        rate_deg_s: 0.0,
+    }
+}
+
+#[test]
+fn a_sensed_frame_holds_until_its_condition_then_moves_on() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let knee = model.joint_id("left_knee").unwrap();
+    let motion = [
+        frame(0.2, 90.0, Some(Condition::TorsoPitchBelow(30.0))),
+        frame(0.2, 10.0, None),
+    ];
+    let mut run = start(&model);
+    let mut pose = vec![0.0; model.joints.len()];
+    let lying = pitched(80.0);
+    assert!(matches!(
+        step(&mut run, &motion, 0.1, &lying, &model, &mut pose),
+        Step::Playing
+    ));
+    assert!((pose[knee] - 45.0).abs() < 1e-9, "halfway: {}", pose[knee]);
+    // Past the duration but still lying: hold the target.
+    step(&mut run, &motion, 0.4, &lying, &model, &mut pose);
+    assert_eq!((run.frame, pose[knee]), (0, 90.0));
+    // The torso has come up: the next frame starts now, from the held target.
+    step(&mut run, &motion, 0.5, &pitched(20.0), &model, &mut pose);
+    assert_eq!((run.frame, pose[knee]), (1, 90.0));
+    step(&mut run, &motion, 0.6, &pitched(20.0), &model, &mut pose);
+    assert!((pose[knee] - 50.0).abs() < 1e-9, "halfway: {}", pose[knee]);
+    assert!(matches!(
+        step(&mut run, &motion, 0.8, &pitched(20.0), &model, &mut pose),
+        Step::Ended
+    ));
+}
+
+#[test]
+fn a_condition_that_never_comes_gives_up() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let motion = [frame(0.2, 90.0, Some(Condition::UprightWithin(20.0)))];
+    let mut run = start(&model);
+    let mut pose = vec![0.0; model.joints.len()];
+    let lying = pitched(80.0);
+    assert!(matches!(
+        step(&mut run, &motion, 0.69, &lying, &model, &mut pose),
+        Step::Playing
+    ));
+    assert!(matches!(
+        step(&mut run, &motion, 0.71, &lying, &model, &mut pose),
+        Step::TimedOut(None)
+    ));
+}
+
+#[test]
+fn balance_pushes_back_against_a_forward_lean() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let b = GetUpBalance {
+        ankle_per_deg: 0.5,
+        ankle_per_gyro: 0.0,
+        hip_per_deg: 0.2,
+        hip_per_gyro: 0.0,
+        max_deg: 4.0,
+    };
+    let mut pose = vec![0.0; model.joints.len()];
+    balance(&b, &pitched(15.0).attitude, 5.0, &model, &mut pose);
+    let at = |n: &str| pose[model.joint_id(n).unwrap()];
+    assert_eq!(at("right_ankle_pitch"), 4.0, "clamped to max_deg");
+    assert!((at("left_hip_pitch") - 2.0).abs() < 1e-9);
+}
+
+#[test]
+fn face_down_is_told_from_lying_on_a_side() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut body = BodyState::new(&model);
+    let sensed = |body: &BodyState| Sensed::from_body(body);
+    body.gravity = [-9.81, 0.0, 0.0];
+    assert!(sensed(&body).from_face_down_deg < 1e-9);
+    // On the right side, slightly nose down: pitch reads far above 60° ...
+    body.gravity = [-0.5, 9.8, 0.1];
+    let side = sensed(&body);
+    assert!(side.attitude.pitch_deg > 60.0, "{side:?}");
+    assert!(Condition::TorsoPitchAbove(60.0).holds(&side));
+    // ... but the torso's front is nearly level: not face down.
+    let face_down = Condition::FaceDown {
+        within_deg: 35.0,
+        rate_below_deg_s: 40.0,
+    };
+    assert!(!face_down.holds(&side), "{side:?}");
+    // Face down with 20° of roll towards the side still counts ...
+    let roll = 20f64.to_radians();
+    body.gravity = [-9.81 * roll.cos(), 9.81 * roll.sin(), 0.0];
+    assert!(face_down.holds(&sensed(&body)));
+    // ... unless the body is still rolling.
+    body.gyro = [50.0, 10.0, 0.0];
+    assert!(!face_down.holds(&sensed(&body)));
+    // On the back: as far from face down as can be.
+    body.gravity = [9.81, 0.0, 0.0];
+    assert!((sensed(&body).from_face_down_deg - 180.0).abs() < 1e-9);
+}
+
+#[test]
+fn the_back_motion_runs_on_into_the_front_motion_when_asked() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let knee = model.joint_id("left_knee").unwrap();
+    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+    p.rest_s = 0.0;
+    p.back = vec![frame(0.1, 20.0, None)];
+    p.front = vec![frame(0.1, 50.0, None), frame(0.2, 80.0, None)];
+    p.back_then_front_from = Some(1);
+    let mut world = World::new(&model, "t", 1);
+    world.body.gravity = [9.81, 0.0, 0.0];
+    world.body.posture = Posture::FallenBack;
+    let mut getup = GetUp::new();
+    let mut pose = vec![0.0; model.joints.len()];
+    let mut at = |t: f64, getup: &mut GetUp, pose: &mut Vec<f64>| {
+        world.time = t;
+        assert!(getup.update(&world, false, &p, &model, pose));
+        pose[knee]
+    };
+    at(0.0, &mut getup, &mut pose);
+    assert_eq!(
+        at(0.1, &mut getup, &mut pose),
+        20.0,
+        "the roll has played out"
+    );
+    // Still lying on the back as far as the detector knows, yet the front motion goes
+    // on from its frame 1 (80°), skipping frame 0 (50°).
+    assert!(
+        (at(0.2, &mut getup, &mut pose) - 50.0).abs() < 1e-9,
+        "halfway 20 → 80"
+    );
+    assert_eq!(at(0.3, &mut getup, &mut pose), 80.0);
+    p.back_then_front_from = Some(2);
+    assert!(p
+        .validate(&model)
+        .unwrap_err()
+        .contains("back_then_front_from"));
+}
+
+#[test]
+fn validation_names_a_bad_condition() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+    p.back[0].until = Some(Condition::UprightWithin(120.0));
+    let err = p.validate(&model).unwrap_err();
+    assert!(err.contains("get_up.back[0].until"), "{err}");
+}
+
+#[test]
+fn a_condition_must_hold_for_hold_s_without_a_break() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut waiting = frame(0.2, 90.0, Some(Condition::TorsoPitchBelow(30.0)));
+    waiting.hold_s = 0.06;
+    let motion = [waiting, frame(0.2, 10.0, None)];
+    let mut run = start(&model);
+    let mut pose = vec![0.0; model.joints.len()];
+    // One cycle's jolt reads upright, the next does not: the frame goes on waiting.
+    step(&mut run, &motion, 0.30, &pitched(20.0), &model, &mut pose);
+    step(&mut run, &motion, 0.32, &pitched(40.0), &model, &mut pose);
+    step(&mut run, &motion, 0.34, &pitched(20.0), &model, &mut pose);
+    step(&mut run, &motion, 0.38, &pitched(20.0), &model, &mut pose);
+    assert_eq!(run.frame, 0, "held 0.04 s of 0.06");
+    step(&mut run, &motion, 0.40, &pitched(20.0), &model, &mut pose);
+    assert_eq!(run.frame, 1, "held 0.06 s");
+}
+
+#[test]
+fn a_timed_out_wait_switches_to_its_recovery_motion_from_the_held_pose() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let knee = model.joint_id("left_knee").unwrap();
+    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+    p.rest_s = 0.0;
+    let mut squat = frame(0.1, 120.0, Some(Condition::UprightWithin(15.0)));
+    squat.timeout_s = 0.2;
+    squat.on_timeout = Some("rise_slowly".to_string());
+    p.front = vec![squat, frame(0.1, 0.0, None)];
+    p.recover = BTreeMap::from([("rise_slowly".to_string(), vec![frame(0.4, 40.0, None)])]);
+    p.validate(&model).unwrap();
+    let mut world = World::new(&model, "t", 1);
+    world.body.gravity = [-9.81, 0.0, 0.0];
+    world.body.posture = Posture::FallenFront;
+    let mut getup = GetUp::new();
+    let mut pose = vec![0.0; model.joints.len()];
+    let mut at = |t: f64, getup: &mut GetUp, pose: &mut Vec<f64>| {
+        world.time = t;
+        assert!(getup.update(&world, false, &p, &model, pose));
+        pose[knee]
+    };
+    at(0.0, &mut getup, &mut pose);
+    assert_eq!(at(0.25, &mut getup, &mut pose), 120.0, "waiting");
+    assert_eq!(getup.recovering(), None);
+    // Still face down at the timeout: the recovery starts from the held 120°, not the front
+    // motion's next frame (0°) and not from the ground.
+    at(0.31, &mut getup, &mut pose);
+    assert_eq!(getup.recovering(), Some("rise_slowly"));
+    assert!(
+        (at(0.51, &mut getup, &mut pose) - 80.0).abs() < 1e-6,
+        "halfway 120 → 40"
+    );
+    assert_eq!(at(0.72, &mut getup, &mut pose), 40.0);
+    // Played out: the get-up is over (the detector starts a new one if still down).
+    world.body.posture = Posture::Upright;
+    world.time = 0.73;
+    assert!(!getup.update(&world, false, &p, &model, &mut pose));
+}
+
+#[test]
+fn validation_names_an_unknown_recovery_motion() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+    let k = p.front.iter().position(|f| f.until.is_some()).unwrap();
+    p.front[k].on_timeout = Some("sit_down".to_string());
+    let err = p.validate(&model).unwrap_err();
+    assert!(
+        err.contains(&format!("get_up.front[{k}].on_timeout")) && err.contains("sit_down"),
+        "{err}"
+    );
+    p.front[k].on_timeout = None;
+    p.front[0].on_timeout = Some("sit_down".to_string());
+    if p.front[0].until.is_none() {
+        assert!(p.validate(&model).unwrap_err().contains("no `until`"));
+    }
+}
