@@ -110,8 +110,20 @@ impl ServerProcess {
             monitor_port,
             work_dir,
         };
-        server.spawn()?;
-        Ok(server)
+        let chosen_by_us =
+            server.options.agent_port.is_none() && server.options.monitor_port.is_none();
+        let mut attempt = 1;
+        loop {
+            match server.spawn() {
+                // Another process took a port between our check and the server's bind.
+                Err(ServerError::PortTaken(p)) if chosen_by_us && attempt < START_ATTEMPTS => {
+                    log::warn!("port {p} was taken as the server started; trying other ports");
+                    (server.agent_port, server.monitor_port) = choose_ports(None, None)?;
+                    attempt += 1;
+                }
+                result => return result.map(|()| server),
+            }
+        }
     }
 
     pub fn log_path(&self) -> PathBuf {
@@ -292,27 +304,53 @@ fn fresh_dir() -> Result<PathBuf, ServerError> {
     Ok(dir)
 }
 
-/// The requested ports if free, else free ones chosen by the OS.
+/// Ports chosen for a server without requested ones: below Linux's ephemeral range
+/// (32768–60999). A free port from the OS (`bind(0)`) lies in that range, and between our
+/// check and the server's own bind any outgoing connection on the machine (agents, other
+/// tests' monitors) may be handed it as its source port: CI once lost a test to that.
+const AUTO_PORTS: std::ops::Range<u16> = 20000..32000;
+
+/// How often `start` chooses new ports when the server finds one taken after all.
+const START_ATTEMPTS: usize = 5;
+
+/// The requested ports if free, else free ones from `AUTO_PORTS`.
 fn choose_ports(agent: Option<u16>, monitor: Option<u16>) -> Result<(u16, u16), ServerError> {
-    let bind = |port: Option<u16>| -> Result<TcpListener, ServerError> {
-        match port {
-            Some(p) => TcpListener::bind(("127.0.0.1", p)).map_err(|_| ServerError::PortTaken(p)),
-            None => TcpListener::bind(("127.0.0.1", 0))
-                .map_err(|e| ServerError::Io("binding a free port".into(), e)),
-        }
+    use std::hash::{BuildHasher, RandomState};
+    let requested =
+        |p: u16| TcpListener::bind(("127.0.0.1", p)).map_err(|_| ServerError::PortTaken(p));
+    let random = RandomState::new();
+    let mut candidates = (0u32..).map(|k| {
+        let span = u64::from(AUTO_PORTS.end - AUTO_PORTS.start);
+        AUTO_PORTS.start + (random.hash_one(k) % span) as u16
+    });
+    let mut free = |held: Option<u16>| -> Result<TcpListener, ServerError> {
+        candidates
+            .by_ref()
+            .take(500)
+            .filter(|&p| Some(p) != held)
+            .find_map(|p| TcpListener::bind(("127.0.0.1", p)).ok())
+            .ok_or_else(|| {
+                ServerError::Io(
+                    format!("finding a free port in {AUTO_PORTS:?}"),
+                    std::io::Error::from(std::io::ErrorKind::AddrInUse),
+                )
+            })
     };
-    // Hold both at once so the OS cannot hand out the same port twice.
-    let a = bind(agent)?;
-    let m = bind(monitor)?;
-    let ports = (
-        a.local_addr()
-            .map_err(|e| ServerError::Io("port".into(), e))?
-            .port(),
-        m.local_addr()
-            .map_err(|e| ServerError::Io("port".into(), e))?
-            .port(),
-    );
-    Ok(ports)
+    let port_of = |l: &TcpListener| {
+        l.local_addr()
+            .map(|a| a.port())
+            .map_err(|e| ServerError::Io("port".into(), e))
+    };
+    // Hold both at once so the same port cannot be chosen twice.
+    let a = match agent {
+        Some(p) => requested(p)?,
+        None => free(monitor)?,
+    };
+    let m = match monitor {
+        Some(p) => requested(p)?,
+        None => free(Some(port_of(&a)?))?,
+    };
+    Ok((port_of(&a)?, port_of(&m)?))
 }
 
 /// Start `cmd` so that it dies with this process, however this process ends (a killed test
@@ -369,6 +407,36 @@ mod tests {
     use std::io::BufRead;
 
     const PROBE: &str = "LIBERO_SPAWN_PROBE";
+
+    #[test]
+    fn chosen_ports_are_free_distinct_and_outside_the_ephemeral_range() {
+        for _ in 0..20 {
+            let (a, m) = choose_ports(None, None).unwrap();
+            assert_ne!(a, m);
+            assert!(
+                AUTO_PORTS.contains(&a) && AUTO_PORTS.contains(&m),
+                "{a} {m}"
+            );
+            // Free: both can be bound now that the check has let them go.
+            let _a = TcpListener::bind(("127.0.0.1", a)).unwrap();
+            let _m = TcpListener::bind(("127.0.0.1", m)).unwrap();
+        }
+    }
+
+    #[test]
+    fn a_requested_port_that_is_taken_is_named() {
+        let taken = TcpListener::bind(("127.0.0.1", 0)).unwrap();
+        let port = taken.local_addr().unwrap().port();
+        assert!(matches!(
+            choose_ports(Some(port), None),
+            Err(ServerError::PortTaken(p)) if p == port
+        ));
+        // A free requested port is kept; the other is chosen.
+        drop(taken);
+        let (a, m) = choose_ports(Some(port), None).unwrap();
+        assert_eq!(a, port);
+        assert!(AUTO_PORTS.contains(&m));
+    }
 
     fn alive(pid: i32) -> bool {
         // A zombie still answers kill(0); it has ended for our purposes.
