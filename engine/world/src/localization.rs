@@ -224,7 +224,7 @@ impl Localizer {
                     (true, true) => p.tilt_accel_correction_still,
                     (true, false) => p.tilt_accel_correction,
                 };
-                self.up += gain * (a / g - self.up);
+                self.up = turned_towards(self.up, a / g, gain);
                 self.accel_smoothed = if self.tilt_known {
                     self.accel_smoothed + ACCEL_SMOOTHING * (a - self.accel_smoothed)
                 } else {
@@ -509,6 +509,27 @@ fn closed_form_fit(landmarks: &[LevelledLandmark]) -> Option<PoseFit> {
         spread,
     };
     (position.iter().all(|c| c.is_finite()) && yaw.is_finite() && rms.is_finite()).then_some(fit)
+}
+
+/// `from` turned towards `to` (both unit vectors) by `fraction` of the angle between them. A
+/// linear blend `from + k·(to − from)` would do the same for small angles, but barely turns a
+/// vector that points the other way: the estimate then stayed on the back for the whole of a
+/// get-up from lying face down (a monitor placement had turned the body unseen by the gyro).
+fn turned_towards(from: Vector3<f64>, to: Vector3<f64>, fraction: f64) -> Vector3<f64> {
+    let angle = from.angle(&to);
+    if angle < 1e-12 {
+        return to;
+    }
+    // Opposite vectors: any axis at right angles to `from` will do.
+    let axis = from.cross(&to).try_normalize(1e-9).unwrap_or_else(|| {
+        let other = if from.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        from.cross(&other).normalize()
+    });
+    UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_unchecked(axis), fraction * angle) * from
 }
 
 #[cfg(test)]

@@ -165,3 +165,36 @@ fn the_gyro_carries_a_real_lean_and_a_still_body_trusts_the_accelerometer() {
         "roll {r:.1}°, pitch {p:.1}°"
     );
 }
+
+#[test]
+fn a_still_body_found_upside_down_from_the_estimate_is_trusted_within_half_a_second() {
+    let mut loc = tilt_localizer();
+    // Lying on the back, still: the estimate settles there.
+    run_tilt(&mut loc, 0.5, |_| ([0.0; 3], [9.81, 0.0, 0.0]), |_, _| {});
+    let (_, pitch) = roll_pitch_deg(&loc);
+    assert!((pitch + 90.0).abs() < 1.0, "on the back: pitch {pitch:.1}°");
+    // Turned face down by a monitor move the gyro never saw, then lying still with a little
+    // contact jitter (the opposite of the estimate: a linear blend does not turn it at all).
+    let mut face_down_at = None;
+    run_tilt(
+        &mut loc,
+        1.0,
+        |t| {
+            let jitter = 0.05 * (std::f64::consts::TAU * t / 0.1).sin();
+            ([0.0; 3], [-9.81, jitter, 0.0])
+        },
+        |t, loc| {
+            let up = loc.up;
+            if face_down_at.is_none() && up.x < -0.99 {
+                face_down_at = Some(t);
+            }
+        },
+    );
+    // About 0.2 s until the smoothed accelerometer has settled and the body counts as still,
+    // then a 180° error shrinks by 30 % per cycle.
+    assert!(
+        face_down_at.is_some_and(|t| t < 0.5),
+        "face down read at {face_down_at:?} s; up {:?}",
+        loc.up
+    );
+}
