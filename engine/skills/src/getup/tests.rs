@@ -15,6 +15,47 @@ fn frame(duration_s: f64, knee: f64, until: Option<Condition>) -> Keyframe {
     }
 }
 
+fn builtin_get_up() -> GetUpParams {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
+    p.rest_s = 0.0;
+    p
+}
+
+/// A get-up driven cycle by cycle while the fall detector reports `posture`.
+struct Driven {
+    model: RobotModel,
+    p: GetUpParams,
+    world: World,
+    getup: GetUp,
+    pose: Vec<f64>,
+}
+
+impl Driven {
+    fn lying(p: GetUpParams, posture: Posture, gravity: [f64; 3]) -> Self {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut world = World::new(&model, "t", 1);
+        world.body.gravity = gravity;
+        world.body.posture = posture;
+        Self {
+            pose: vec![0.0; model.joints.len()],
+            model,
+            p,
+            world,
+            getup: GetUp::new(),
+        }
+    }
+
+    /// The left knee's target at `t` (the get-up must be running).
+    fn knee_at(&mut self, t: f64) -> f64 {
+        self.world.time = t;
+        assert!(self
+            .getup
+            .update(&self.world, false, &self.p, &self.model, &mut self.pose));
+        self.pose[self.model.joint_id("left_knee").unwrap()]
+    }
+}
+
 fn start(model: &RobotModel) -> Run {
     Run {
         motion: Motion::Front,
@@ -132,39 +173,21 @@ fn face_down_is_told_from_lying_on_a_side() {
 
 #[test]
 fn the_back_motion_runs_on_into_the_front_motion_when_asked() {
-    let model = RobotModel::builtin("T1").unwrap();
-    let knee = model.joint_id("left_knee").unwrap();
-    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
-    p.rest_s = 0.0;
+    let mut p = builtin_get_up();
     p.back = vec![frame(0.1, 20.0, None)];
     p.front = vec![frame(0.1, 50.0, None), frame(0.2, 80.0, None)];
     p.back_then_front_from = Some(1);
-    let mut world = World::new(&model, "t", 1);
-    world.body.gravity = [9.81, 0.0, 0.0];
-    world.body.posture = Posture::FallenBack;
-    let mut getup = GetUp::new();
-    let mut pose = vec![0.0; model.joints.len()];
-    let mut at = |t: f64, getup: &mut GetUp, pose: &mut Vec<f64>| {
-        world.time = t;
-        assert!(getup.update(&world, false, &p, &model, pose));
-        pose[knee]
-    };
-    at(0.0, &mut getup, &mut pose);
-    assert_eq!(
-        at(0.1, &mut getup, &mut pose),
-        20.0,
-        "the roll has played out"
-    );
+    let mut r = Driven::lying(p, Posture::FallenBack, [9.81, 0.0, 0.0]);
+    r.knee_at(0.0);
+    assert_eq!(r.knee_at(0.1), 20.0, "the roll has played out");
     // Still lying on the back as far as the detector knows, yet the front motion goes
     // on from its frame 1 (80°), skipping frame 0 (50°).
-    assert!(
-        (at(0.2, &mut getup, &mut pose) - 50.0).abs() < 1e-9,
-        "halfway 20 → 80"
-    );
-    assert_eq!(at(0.3, &mut getup, &mut pose), 80.0);
-    p.back_then_front_from = Some(2);
-    assert!(p
-        .validate(&model)
+    assert!((r.knee_at(0.2) - 50.0).abs() < 1e-9, "halfway 20 → 80");
+    assert_eq!(r.knee_at(0.3), 80.0);
+    r.p.back_then_front_from = Some(2);
+    assert!(r
+        .p
+        .validate(&r.model)
         .unwrap_err()
         .contains("back_then_front_from"));
 }
@@ -198,42 +221,27 @@ fn a_condition_must_hold_for_hold_s_without_a_break() {
 
 #[test]
 fn a_timed_out_wait_switches_to_its_recovery_motion_from_the_held_pose() {
-    let model = RobotModel::builtin("T1").unwrap();
-    let knee = model.joint_id("left_knee").unwrap();
-    let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
-    p.rest_s = 0.0;
+    let mut p = builtin_get_up();
     let mut squat = frame(0.1, 120.0, Some(Condition::UprightWithin(15.0)));
     squat.timeout_s = 0.2;
     squat.on_timeout = Some("rise_slowly".to_string());
     p.front = vec![squat, frame(0.1, 0.0, None)];
     p.recover = BTreeMap::from([("rise_slowly".to_string(), vec![frame(0.4, 40.0, None)])]);
-    p.validate(&model).unwrap();
-    let mut world = World::new(&model, "t", 1);
-    world.body.gravity = [-9.81, 0.0, 0.0];
-    world.body.posture = Posture::FallenFront;
-    let mut getup = GetUp::new();
-    let mut pose = vec![0.0; model.joints.len()];
-    let mut at = |t: f64, getup: &mut GetUp, pose: &mut Vec<f64>| {
-        world.time = t;
-        assert!(getup.update(&world, false, &p, &model, pose));
-        pose[knee]
-    };
-    at(0.0, &mut getup, &mut pose);
-    assert_eq!(at(0.25, &mut getup, &mut pose), 120.0, "waiting");
-    assert_eq!(getup.recovering(), None);
+    let mut r = Driven::lying(p, Posture::FallenFront, [-9.81, 0.0, 0.0]);
+    r.p.validate(&r.model).unwrap();
+    r.knee_at(0.0);
+    assert_eq!(r.knee_at(0.25), 120.0, "waiting");
+    assert_eq!(r.getup.recovering(), None);
     // Still face down at the timeout: the recovery starts from the held 120°, not the front
     // motion's next frame (0°) and not from the ground.
-    at(0.31, &mut getup, &mut pose);
-    assert_eq!(getup.recovering(), Some("rise_slowly"));
-    assert!(
-        (at(0.51, &mut getup, &mut pose) - 80.0).abs() < 1e-6,
-        "halfway 120 → 40"
-    );
-    assert_eq!(at(0.72, &mut getup, &mut pose), 40.0);
+    r.knee_at(0.31);
+    assert_eq!(r.getup.recovering(), Some("rise_slowly"));
+    assert!((r.knee_at(0.51) - 80.0).abs() < 1e-6, "halfway 120 → 40");
+    assert_eq!(r.knee_at(0.72), 40.0);
     // Played out: the get-up is over (the detector starts a new one if still down).
-    world.body.posture = Posture::Upright;
-    world.time = 0.73;
-    assert!(!getup.update(&world, false, &p, &model, &mut pose));
+    r.world.body.posture = Posture::Upright;
+    r.world.time = 0.73;
+    assert!(!r.getup.update(&r.world, false, &r.p, &r.model, &mut r.pose));
 }
 
 #[test]
