@@ -66,6 +66,10 @@ struct Tracker {
     drag_factor: f64,
     /// Where the ball lies while at rest.
     rest_position: Option<Vector2<f64>>,
+    /// Whether the window's points show the fitted motion beyond their own scatter; otherwise
+    /// the estimate is published at rest at `window_mean`.
+    motion_supported: bool,
+    window_mean: Vector2<f64>,
 }
 
 impl BallEstimate {
@@ -94,6 +98,8 @@ impl BallEstimate {
                 rolling_start: None,
                 learned_from_track: false,
                 rest_position: None,
+                motion_supported: false,
+                window_mean: Vector2::zeros(),
             },
         }
     }
@@ -212,6 +218,17 @@ impl BallEstimate {
     fn publish(&mut self, time: f64) {
         let t = &self.tracker;
         if t.observations.is_empty() {
+            return;
+        }
+        // Jitter of a ball at rest (our own pose and camera shaking while walking) fits
+        // velocities of up to 1.4 m/s from a few points; carried on while the ball is out of
+        // sight, they sent the robot after a ball metres from the real one.
+        if !t.motion_supported {
+            self.position = t.window_mean.into();
+            self.velocity = [0.0; 2];
+            self.acceleration = [0.0; 2];
+            self.sliding = false;
+            self.predicted_stop = self.position;
             return;
         }
         let dt = time - t.fit_time;
@@ -404,6 +421,14 @@ impl Tracker {
             let mean = points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len() as f64;
             self.rest_position = Some(mean);
         }
+        self.window_mean =
+            points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len().max(1) as f64;
+        self.motion_supported = self.fit_velocity.norm() > 0.0
+            && moves_beyond_scatter(
+                &points,
+                self.params.scatter_floor_m,
+                self.params.motion_significance,
+            );
         let speed = self.fit_velocity.norm();
         let position = self.fit_position;
         // Rolling once the speed is down to the rolling speed, or when a track that did not
@@ -419,6 +444,38 @@ impl Tracker {
             }
         }
     }
+}
+
+/// Whether the points move more than their scatter explains: the velocity of a straight line
+/// fitted to them over its standard error (both axes; the scatter about the line, at least
+/// `scatter_floor`), above `significance`. Fewer than four points never do.
+fn moves_beyond_scatter(
+    points: &[(f64, Vector2<f64>)],
+    scatter_floor: f64,
+    significance: f64,
+) -> bool {
+    let n = points.len();
+    if n < 4 {
+        return false;
+    }
+    let count = n as f64;
+    let mean_t = points.iter().map(|(t, _)| t).sum::<f64>() / count;
+    let mean_p = points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / count;
+    let spread_t: f64 = points.iter().map(|(t, _)| (t - mean_t).powi(2)).sum();
+    if spread_t <= 0.0 {
+        return false;
+    }
+    let slope = points
+        .iter()
+        .map(|(t, p)| (p - mean_p) * (t - mean_t))
+        .sum::<Vector2<f64>>()
+        / spread_t;
+    let residual: f64 = points
+        .iter()
+        .map(|(t, p)| (p - mean_p - slope * (t - mean_t)).norm_squared())
+        .sum();
+    let scatter = (residual / (2.0 * (count - 2.0))).sqrt().max(scatter_floor);
+    slope.norm() * spread_t.sqrt() / scatter > significance
 }
 
 /// Fit `p(τ) = p0 + v·τ + ½a·τ²` to (τ, p) points (τ ≤ 0); falls back to a line with two

@@ -30,6 +30,11 @@ pub struct BallParams {
     pub fit_window_s: f64,
     pub new_track_gate: f64,
     pub start_gate: f64,
+    /// A track moves only when its window's straight-line velocity exceeds this many standard
+    /// errors of the points' scatter about the line ...
+    pub motion_significance: f64,
+    /// ... taken as at least this [m] (vision's rounding).
+    pub scatter_floor_m: f64,
     pub launch_fit_s: f64,
     pub rest_speed: f64,
     pub rolling_speed_ratio: f64,
@@ -126,6 +131,8 @@ impl WorldParams {
         positive("fit_window_s", b.fit_window_s);
         positive("new_track_gate", b.new_track_gate);
         positive("start_gate", b.start_gate);
+        positive("motion_significance", b.motion_significance);
+        positive("scatter_floor_m", b.scatter_floor_m);
         positive("launch_fit_s", b.launch_fit_s);
         positive("rest_speed", b.rest_speed);
         for (i, f) in b.friction_by_direction.iter().enumerate() {
