@@ -409,6 +409,8 @@ impl Tracker {
         // seen from our pose estimate), and a real launch must find the ball at rest again.
         let settled = points.len() >= LAUNCH_WINDOW_MIN_POINTS
             && (self.fit_velocity.norm() == 0.0 || velocity.norm() < self.params.rest_speed);
+        self.window_mean =
+            points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len().max(1) as f64;
         if settled {
             if self.launched.is_some() {
                 self.launch = None;
@@ -418,11 +420,8 @@ impl Tracker {
             self.fit_velocity = Vector2::zeros();
             // Where it lies: the mean of the window, following the slow drift of our own pose
             // estimate (a stale rest point would make noise look like a start).
-            let mean = points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len() as f64;
-            self.rest_position = Some(mean);
+            self.rest_position = Some(self.window_mean);
         }
-        self.window_mean =
-            points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len().max(1) as f64;
         self.motion_supported = self.fit_velocity.norm() > 0.0
             && moves_beyond_scatter(
                 &points,
