@@ -47,6 +47,8 @@ pub enum HeadIntent {
         amplitude_deg: Option<f64>,
         period_s: Option<f64>,
     },
+    /// Look at a point on the ground given in the robot frame (x forwards, y left) [m].
+    LookAt { target: [f64; 2] },
 }
 
 /// One cycle's request to the skill layer.

@@ -30,10 +30,12 @@ pub enum ActiveSkill {
 }
 
 /// What the skill layer is doing, for the decision layer.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SkillStatus {
     pub active: ActiveSkill,
     pub kick: KickState,
+    /// The long kick's measured spread (from the parameter file).
+    pub kick_spread: kick::KickSpread,
 }
 
 impl Default for SkillStatus {
@@ -41,6 +43,7 @@ impl Default for SkillStatus {
         Self {
             active: ActiveSkill::Stand,
             kick: KickState::Idle,
+            kick_spread: kick::KickSpread::default(),
         }
     }
 }
@@ -132,6 +135,7 @@ impl Skills {
         SkillStatus {
             active: self.active,
             kick: self.kick.state(),
+            kick_spread: self.params.kick.measured,
         }
     }
 
@@ -282,6 +286,15 @@ impl Skills {
         self.last_pose.copy_from_slice(&self.pose);
         match intent.head {
             HeadIntent::Hold => {}
+            HeadIntent::LookAt { target } => {
+                // The same aim as while approaching a kick: yaw to the bearing, pitch down to a
+                // point on the ground from the eye height.
+                let a = &self.params.kick.approach;
+                let distance = target[0].hypot(target[1]).max(0.01);
+                let pitch = a.eye_height_m.atan2(distance).to_degrees().min(a.look_down_deg);
+                out.set_angle(model, "head_yaw", target[1].atan2(target[0]).to_degrees());
+                out.set_angle(model, "head_pitch", pitch);
+            }
             HeadIntent::LookAround {
                 amplitude_deg,
                 period_s,

@@ -3,8 +3,7 @@
 use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_agent::build::default_data_dirs;
-use libero_agent::natives::vocabulary;
-use libero_behavior::validate_paths;
+use libero_strategy::{validate_paths, vocabulary};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -37,7 +36,7 @@ pub fn validate(args: ValidateArgs) -> CliResult {
     } else {
         args.paths
     };
-    let report = validate_paths(&paths, &vocabulary());
+    let report = validate_paths(&paths);
     match args.format {
         Format::Text => eprint!("{}", report.render_text()),
         Format::Json => println!("{}", report.render_json()),
