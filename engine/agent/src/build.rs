@@ -5,9 +5,9 @@ use crate::player::Player;
 use crate::skill_source::SkillSource;
 use crate::stats::AgentStats;
 use libero_behavior::{LiveLibrary, ReloadOptions};
-use libero_strategy::{vocabulary, Natives, StrategyFiles};
 use libero_model::RobotModel;
 use libero_skills::{SkillParams, Skills};
+use libero_strategy::{vocabulary, Natives, StrategyFiles};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

@@ -1,8 +1,8 @@
 //! The decision stage: from beliefs to this cycle's intent.
 
 use libero_behavior::{Library, LiveLibrary, TreeRunner};
-use libero_strategy::{strategy_of, AgentHost, Natives, PlayerMemory};
 use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
+use libero_strategy::{strategy_of, AgentHost, Natives, PlayerMemory};
 use libero_world::World;
 use std::sync::Arc;
 

@@ -27,7 +27,11 @@ pub trait DataCollector {
     /// errors go to the decoder with their location.
     fn read(&mut self, kind: &str, head: Span, node: &Node, decoder: &mut Decoder);
     /// Cross-checks what was read against the trees and returns the data the library keeps.
-    fn finish(self: Box<Self>, trees: &TreeIndex, report: &mut Report) -> Arc<dyn Any + Send + Sync>;
+    fn finish(
+        self: Box<Self>,
+        trees: &TreeIndex,
+        report: &mut Report,
+    ) -> Arc<dyn Any + Send + Sync>;
 }
 
 /// No data files: a library of trees alone.
@@ -73,9 +77,10 @@ impl TreeIndex<'_> {
         let reachable = self.reachable(roots);
         let mut files_seen: HashMap<&Path, (bool, &Arc<SourceFile>, Span)> = HashMap::new();
         for (name, (file, tree)) in &self.defs.trees {
-            let entry = files_seen
-                .entry(file.path.as_path())
-                .or_insert((false, file, tree.name_span));
+            let entry =
+                files_seen
+                    .entry(file.path.as_path())
+                    .or_insert((false, file, tree.name_span));
             entry.0 |= reachable.contains(name);
         }
         for (used, file, span) in files_seen.values() {

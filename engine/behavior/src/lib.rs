@@ -24,11 +24,11 @@ mod value;
 mod vocabulary;
 
 pub use compile::CompiledTree;
+pub use data_files::{DataCollector, DataFiles, NoDataFiles, TreeIndex};
 pub use diagnostics::{did_you_mean, Diagnostic, Report, Severity, SourceFile};
 pub use library::{validate_paths, Library};
 pub use live::{LiveLibrary, ReloadEvent, ReloadOptions};
 pub use runtime::{Args, Blackboard, Host, RunnerError, TreeRunner};
-pub use data_files::{DataCollector, DataFiles, NoDataFiles, TreeIndex};
 pub use trace::{TickRecord, Trace, TraceEntry};
 pub use value::{Status, Value, ValueType, Vec2};
 pub use vocabulary::{NativeId, NativeKind, NodeSpec, ParamSpec, Vocabulary};

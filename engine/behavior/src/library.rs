@@ -3,14 +3,14 @@
 
 use crate::check::{check_trees, collect_definitions, LoadedBehaviors};
 use crate::compile::{compile_tree, BlackboardLayout, CompiledTree};
+use crate::data_files::{DataFiles, TreeIndex};
 use crate::decode::Decoder;
 use crate::diagnostics::{did_you_mean, Diagnostic, Report, SourceFile};
-use crate::data_files::{DataFiles, TreeIndex};
 use crate::syntax;
 use crate::tree::parse_behavior_file;
 use crate::vocabulary::Vocabulary;
-use std::collections::hash_map::DefaultHasher;
 use std::any::Any;
+use std::collections::hash_map::DefaultHasher;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::path::{Path, PathBuf};

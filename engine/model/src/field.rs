@@ -159,7 +159,10 @@ impl FieldGeometry {
         if !(1..=22).contains(&self.players_per_team) {
             report(
                 "players_per_team",
-                format!("`players_per_team` must be 1 to 22, got {}", self.players_per_team),
+                format!(
+                    "`players_per_team` must be 1 to 22, got {}",
+                    self.players_per_team
+                ),
             );
         }
         if !(self.border.is_finite() && self.border >= 0.0) {

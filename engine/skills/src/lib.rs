@@ -291,7 +291,11 @@ impl Skills {
                 // point on the ground from the eye height.
                 let a = &self.params.kick.approach;
                 let distance = target[0].hypot(target[1]).max(0.01);
-                let pitch = a.eye_height_m.atan2(distance).to_degrees().min(a.look_down_deg);
+                let pitch = a
+                    .eye_height_m
+                    .atan2(distance)
+                    .to_degrees()
+                    .min(a.look_down_deg);
                 out.set_angle(model, "head_yaw", target[1].atan2(target[0]).to_degrees());
                 out.set_angle(model, "head_pitch", pitch);
             }

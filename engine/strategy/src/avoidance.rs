@@ -294,7 +294,16 @@ pub fn plan_path(
             return Some(path);
         }
         let (cx, cy) = ((current % nx) as i64, (current / nx) as i64);
-        for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (1, -1), (-1, 1), (-1, -1)] {
+        for (dx, dy) in [
+            (1, 0),
+            (-1, 0),
+            (0, 1),
+            (0, -1),
+            (1, 1),
+            (1, -1),
+            (-1, 1),
+            (-1, -1),
+        ] {
             let (x, y) = (cx + dx, cy + dy);
             if x < 0 || y < 0 || x >= nx as i64 || y >= ny as i64 {
                 continue;

@@ -110,7 +110,12 @@ impl ShotParams {
         let reaches = phi((kick.distance_m - distance) / kick.distance_sd_m.max(1e-3));
         let half_goal = field.goal_half_width();
         // Between the posts: the direction error moves the crossing along the goal line.
-        let inside = within(target.y, distance * sigma.tan() / along.x.max(0.1), -half_goal, half_goal);
+        let inside = within(
+            target.y,
+            distance * sigma.tan() / along.x.max(0.1),
+            -half_goal,
+            half_goal,
+        );
         let passes = |at: Own, reach: f64| {
             let (s, off) = lateral(at);
             if s <= 0.0 || s > distance + 0.5 {

@@ -3,10 +3,8 @@
 //! once, the fix runs; editors' save patterns all end in the right library.
 
 use libero_behavior::testing::ScriptedHost;
+use libero_behavior::{LiveLibrary, ReloadEvent, ReloadOptions, Status, TreeRunner, Value};
 use libero_strategy::{vocabulary, StrategyFiles};
-use libero_behavior::{
-    LiveLibrary, ReloadEvent, ReloadOptions, Status, TreeRunner, Value,
-};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};

@@ -37,7 +37,9 @@ fn world(unum: u32, me: Own, ball: Own, mode: PlayMode) -> World {
     world.me.position = side.global(me).to_array();
     world.me.yaw_deg = 180.0;
     let b = side.global(ball);
-    world.ball.update(world.time, Some(Vector3::new(b.x, b.y, 0.11)));
+    world
+        .ball
+        .update(world.time, Some(Vector3::new(b.x, b.y, 0.11)));
     world
 }
 
@@ -87,7 +89,10 @@ fn team_file_assigns_roots_and_formations_on_its_field() {
     assert_eq!(strategy.tree_for(5), Some("FieldPlayer"));
     let field = strategy.field();
     assert_eq!(field.name(), "fifa7vs7");
-    assert!((field.goal_half_width() - 1.83).abs() < 1e-9, "the one field model");
+    assert!(
+        (field.goal_half_width() - 1.83).abs() < 1e-9,
+        "the one field model"
+    );
     for situation in Situation::ALL {
         let formation = strategy.formation_for(situation).unwrap();
         for unum in 1..=7 {
@@ -105,10 +110,19 @@ fn team_file_assigns_roots_and_formations_on_its_field() {
 fn field_player_beams_to_its_kick_off_position_before_kick_off() {
     let library = library();
     let strategy = strategy_of(&library);
-    let w = world(4, Own::new(-5.0, 3.0), Own::new(0.0, 0.0), PlayMode::BeforeKickOff);
+    let w = world(
+        4,
+        Own::new(-5.0, 3.0),
+        Own::new(0.0, 0.0),
+        PlayMode::BeforeKickOff,
+    );
     let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
     let expected = strategy
-        .position(Situation::KickOffTheirs, 4, libero_behavior::Vec2::new(0.0, 0.0))
+        .position(
+            Situation::KickOffTheirs,
+            4,
+            libero_behavior::Vec2::new(0.0, 0.0),
+        )
         .unwrap();
     let [x, y, _] = intent.beam.expect("a beam");
     assert!((x - expected.x).abs() < 1e-9 && (y - expected.y).abs() < 1e-9);
@@ -117,7 +131,12 @@ fn field_player_beams_to_its_kick_off_position_before_kick_off() {
 #[test]
 fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on() {
     // 8 m out in front of an empty goal: the shot's chance clears the threshold.
-    let w = world(5, Own::new(18.0, 1.0), Own::new(19.0, 1.0), PlayMode::PlayOn);
+    let w = world(
+        5,
+        Own::new(18.0, 1.0),
+        Own::new(19.0, 1.0),
+        PlayMode::PlayOn,
+    );
     let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
     let BodyIntent::Kick {
         direction_deg,
@@ -133,7 +152,12 @@ fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on()
     assert!(distance_m > 7.0, "a long kick: {distance_m}");
 
     // 30 m out the shot has no chance: a short push towards the goal.
-    let w = world(5, Own::new(-4.0, 0.0), Own::new(-3.0, 0.0), PlayMode::PlayOn);
+    let w = world(
+        5,
+        Own::new(-4.0, 0.0),
+        Own::new(-3.0, 0.0),
+        PlayMode::PlayOn,
+    );
     let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
     let BodyIntent::Kick { distance_m, .. } = intent.body else {
         panic!("no kick: {:?}", intent.body)
@@ -152,7 +176,10 @@ fn goalkeeper_walks_to_the_defense_point_of_goalkeeper_ron_facing_the_ball() {
         .unwrap()
         .defense_point(ball, &strategy.field());
     // Between the goal and the ball, on the ball's side, inside the goal area.
-    assert!(point.x > -27.5 && point.x < -23.5 && point.y > 0.0 && point.y < 1.83, "{point:?}");
+    assert!(
+        point.x > -27.5 && point.x < -23.5 && point.y > 0.0 && point.y < 1.83,
+        "{point:?}"
+    );
     let intent = tick("Goalkeeper", &w, &mut PlayerMemory::default());
     let BodyIntent::WalkTo {
         target,
@@ -164,15 +191,18 @@ fn goalkeeper_walks_to_the_defense_point_of_goalkeeper_ron_facing_the_ball() {
     };
     assert!(own_of(&w, target).distance(point) < 1e-6);
     // Facing the ball: its bearing from the keeper, in the robot frame.
-    let to_ball = w
-        .pose()
-        .robot(w.side().global(ball));
+    let to_ball = w.pose().robot(w.side().global(ball));
     assert!((heading_deg - to_ball.y.atan2(to_ball.x).to_degrees()).abs() < 1e-6);
 }
 
 #[test]
 fn goalkeeper_meets_a_shot_where_it_crosses_its_line() {
-    let mut w = world(1, Own::new(-26.8, 0.0), Own::new(-18.0, 0.0), PlayMode::PlayOn);
+    let mut w = world(
+        1,
+        Own::new(-26.8, 0.0),
+        Own::new(-18.0, 0.0),
+        PlayMode::PlayOn,
+    );
     // A ball rolling at ~6 m/s from (-18, 0) towards the post side (-27.5, 1.2): feed the
     // tracker a second of sightings.
     let side = w.side();
@@ -190,5 +220,8 @@ fn goalkeeper_meets_a_shot_where_it_crosses_its_line() {
     };
     let goal = own_of(&w, target);
     // The crossing of its line x = -26.8 lies about 1.1 m to the keeper's +y.
-    assert!(goal.y > 0.7 && goal.y < 1.4 && (goal.x + 26.8).abs() < 0.2, "{goal:?}");
+    assert!(
+        goal.y > 0.7 && goal.y < 1.4 && (goal.x + 26.8).abs() < 0.2,
+        "{goal:?}"
+    );
 }

@@ -169,10 +169,16 @@ mod tests {
         let pose = Pose::new(Global::new(1.0, 1.0), 90.0);
         // Facing +y: a point 2 m further along +y is straight ahead.
         let ahead = pose.robot(Global::new(1.0, 3.0));
-        assert!((ahead.x - 2.0).abs() < 1e-9 && ahead.y.abs() < 1e-9, "{ahead:?}");
+        assert!(
+            (ahead.x - 2.0).abs() < 1e-9 && ahead.y.abs() < 1e-9,
+            "{ahead:?}"
+        );
         // A point at −x globally is on the robot's left.
         let left = pose.robot(Global::new(0.0, 1.0));
-        assert!(left.x.abs() < 1e-9 && (left.y - 1.0).abs() < 1e-9, "{left:?}");
+        assert!(
+            left.x.abs() < 1e-9 && (left.y - 1.0).abs() < 1e-9,
+            "{left:?}"
+        );
         let back = pose.global(Robot::new(0.3, -0.7));
         let again = pose.robot(back);
         assert!((again.x - 0.3).abs() < 1e-12 && (again.y + 0.7).abs() < 1e-12);

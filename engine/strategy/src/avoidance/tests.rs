@@ -44,7 +44,14 @@ fn clear_way_goes_straight() {
     let params = AvoidanceParams::default();
     let mut planner = Planner::default();
     let to = Own::new(5.0, 0.0);
-    let w = planner.next_waypoint(&params, &field(), Own::default(), to, &[robot(2.0, 2.0)], 0.0);
+    let w = planner.next_waypoint(
+        &params,
+        &field(),
+        Own::default(),
+        to,
+        &[robot(2.0, 2.0)],
+        0.0,
+    );
     assert_eq!(w, to);
 }
 
@@ -74,7 +81,10 @@ fn a_cup_that_blocks_every_detour_is_left_by_the_grid_path() {
     let mut planner = Planner::default();
     let (from, to) = (Own::new(1.5, 0.0), Own::new(6.0, 0.0));
     let near = effective(&cup, from);
-    assert!(planner.detour(&params, from, to, &near).is_none(), "no detour is clear");
+    assert!(
+        planner.detour(&params, from, to, &near).is_none(),
+        "no detour is clear"
+    );
     assert!(plan_path(&params, &field(), from, to, &cup).is_some());
     let (arrived, closest) = walk(&cup, from, to);
     assert!(arrived);

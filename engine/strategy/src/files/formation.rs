@@ -129,7 +129,8 @@ pub fn parse_formation(decoder: &mut Decoder, node: &Node) -> Option<Formation> 
                         n.span,
                         format!("unknown field `{name}`"),
                     )
-                    .hint = hint.or_else(|| Some(format!("fields are {}", Field::names().join(", "))));
+                    .hint =
+                    hint.or_else(|| Some(format!("fields are {}", Field::names().join(", "))));
             }
             field
         }),
@@ -241,7 +242,8 @@ fn roles(decoder: &mut Decoder, node: &Node, field: &Field) -> Vec<Role> {
                 )
                 .hint = Some(format!(
                 "a {} formation needs roles for players 1 to {}",
-                field.name(), field.players()
+                field.name(),
+                field.players()
             ));
         }
     }

@@ -33,7 +33,11 @@ pub fn parse_goalkeeper(decoder: &mut Decoder, node: &Node) -> Option<Goalkeeper
             "post_bisector" => Some(DefenseLine::PostBisector),
             other => {
                 decoder
-                    .error("invalid-value", n.span, format!("unknown defense line `{other}`"))
+                    .error(
+                        "invalid-value",
+                        n.span,
+                        format!("unknown defense line `{other}`"),
+                    )
                     .hint = Some("`ball_line` or `post_bisector`".into());
                 None
             }

@@ -15,7 +15,13 @@ use std::sync::Arc;
 #[derive(Debug, Clone, Copy, Default)]
 pub struct StrategyFiles;
 
-const KINDS: &[&str] = &["Formation", "Team", "Goalkeeper", "ShotUtility", "Avoidance"];
+const KINDS: &[&str] = &[
+    "Formation",
+    "Team",
+    "Goalkeeper",
+    "ShotUtility",
+    "Avoidance",
+];
 
 impl DataFiles for StrategyFiles {
     fn kinds(&self) -> &[&'static str] {
@@ -42,7 +48,11 @@ impl DataCollector for Collector {
             let kind = KINDS.iter().copied().find(|k| *k == kind).unwrap_or("?");
             if let Some(first) = self.singletons.get(kind) {
                 decoder
-                    .error("duplicate-definition", head, format!("a second `{kind}` file"))
+                    .error(
+                        "duplicate-definition",
+                        head,
+                        format!("a second `{kind}` file"),
+                    )
                     .hint = Some(format!(
                     "`{kind}` is already defined in {}",
                     first.path.display()
@@ -78,7 +88,11 @@ impl DataCollector for Collector {
         }
     }
 
-    fn finish(self: Box<Self>, trees: &TreeIndex, report: &mut Report) -> Arc<dyn Any + Send + Sync> {
+    fn finish(
+        self: Box<Self>,
+        trees: &TreeIndex,
+        report: &mut Report,
+    ) -> Arc<dyn Any + Send + Sync> {
         self.check_team(trees, report);
         Arc::new(self.strategy)
     }

@@ -22,7 +22,10 @@ fn ball_line_point_lies_towards_the_ball_and_moves_out_with_its_distance() {
     let b = Own::new(-27.5 + 5.0 / 2f64.sqrt(), 5.0 / 2f64.sqrt());
     let q = p.defense_point(b, &field());
     let s = 1.0 / 2f64.sqrt();
-    assert!((q.x - (-27.5 + s)).abs() < 1e-9 && (q.y - s).abs() < 1e-9, "{q:?}");
+    assert!(
+        (q.x - (-27.5 + s)).abs() < 1e-9 && (q.y - s).abs() < 1e-9,
+        "{q:?}"
+    );
 }
 
 #[test]
@@ -40,7 +43,10 @@ fn post_bisector_starts_from_the_point_dividing_the_mouth_by_the_post_distances(
     let (dl, dr) = (3.0, 3.0f64.hypot(3.66));
     let q = p.defense_point(ball, &field());
     let expected_y = 1.83 - 3.66 * dl / (dl + dr);
-    assert!((q.y - expected_y).abs() < 1e-9 && (q.x + 27.5).abs() < 1e-9, "{q:?}");
+    assert!(
+        (q.y - expected_y).abs() < 1e-9 && (q.x + 27.5).abs() < 1e-9,
+        "{q:?}"
+    );
     // Straight in front the bisector is the centre line.
     let q = p.defense_point(Own::new(-20.0, 0.0), &field());
     assert!(q.y.abs() < 1e-9);
@@ -55,9 +61,16 @@ fn defense_point_stays_inside_the_goal_area() {
         ..GoalkeeperParams::default()
     };
     // Goal area: 4 m deep, 3.65 m half width.
-    for ball in [Own::new(0.0, 0.0), Own::new(-27.0, 17.0), Own::new(-30.0, -2.0)] {
+    for ball in [
+        Own::new(0.0, 0.0),
+        Own::new(-27.0, 17.0),
+        Own::new(-30.0, -2.0),
+    ] {
         let q = p.defense_point(ball, &field());
-        assert!(q.x <= -27.5 + 3.5 + 1e-9 && q.x >= -27.5 + 0.3 - 1e-9, "{ball:?} -> {q:?}");
+        assert!(
+            q.x <= -27.5 + 3.5 + 1e-9 && q.x >= -27.5 + 0.3 - 1e-9,
+            "{ball:?} -> {q:?}"
+        );
         assert!(q.y.abs() <= 3.15 + 1e-9, "{ball:?} -> {q:?}");
     }
 }
@@ -80,9 +93,15 @@ fn save_walks_when_there_is_time_blocks_at_the_body_and_dives_beside_it() {
     assert_eq!(p.save(keeper, &shot(1.0, 0.8)), Save::Dive { left: true });
     assert_eq!(p.save(keeper, &shot(-1.0, 0.8)), Save::Dive { left: false });
     // 3 s away: walk there (0.4 m/s covers 1 m in 2.5 s).
-    assert_eq!(p.save(keeper, &shot(1.0, 3.0)), Save::Walk(Own::new(-26.5, 1.0)));
+    assert_eq!(
+        p.save(keeper, &shot(1.0, 3.0)),
+        Save::Walk(Own::new(-26.5, 1.0))
+    );
     // Beyond the dive's reach: only walking can help.
-    assert_eq!(p.save(keeper, &shot(2.0, 0.8)), Save::Walk(Own::new(-26.5, 2.0)));
+    assert_eq!(
+        p.save(keeper, &shot(2.0, 0.8)),
+        Save::Walk(Own::new(-26.5, 2.0))
+    );
 }
 
 #[test]

@@ -52,13 +52,6 @@ impl AgentHost<'_> {
         self.own_of(self.world.me.position)
     }
 
-    /// Our heading in the own frame [rad].
-    pub(crate) fn my_heading(&self) -> f64 {
-        self.world
-            .yaw_to_own_frame(self.world.me.yaw_deg)
-            .to_radians()
-    }
-
     pub(crate) fn unum(&self) -> u8 {
         u8::try_from(self.world.game.unum).unwrap_or(u8::MAX)
     }
@@ -77,8 +70,7 @@ impl AgentHost<'_> {
             .iter()
             .filter(|p| p.age(world.time) <= avoidance.memory_s)
             .filter(|p| {
-                !(p.relation == libero_world::Relation::Teammate
-                    && p.unum == world.game.unum)
+                !(p.relation == libero_world::Relation::Teammate && p.unum == world.game.unum)
             })
             .map(|p| Obstacle {
                 at: self.own_of(p.position),

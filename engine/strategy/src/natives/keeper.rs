@@ -108,12 +108,20 @@ fn should_clear_ball(host: &AgentHost, _: &Ports) -> bool {
     }
     let speed = keeper.walk_speed_m_s;
     let reach = 0.3;
-    let ours = world.ball.interception(world.me.position, speed, reach).map(|(t, _)| t);
+    let ours = world
+        .ball
+        .interception(world.me.position, speed, reach)
+        .map(|(t, _)| t);
     let theirs = world
         .players
         .of(Relation::Opponent)
         .filter(|p| !p.fallen && p.age(world.time) < 3.0)
-        .filter_map(|p| world.ball.interception(p.position, speed, reach).map(|(t, _)| t))
+        .filter_map(|p| {
+            world
+                .ball
+                .interception(p.position, speed, reach)
+                .map(|(t, _)| t)
+        })
         .reduce(f64::min);
     keeper.should_clear(host.ball(), &host.strategy.field(), ours, theirs)
 }

@@ -17,7 +17,9 @@ mod shooting;
 
 pub use host::{AgentHost, PlayerMemory};
 
-use libero_behavior::{Args, Host, NativeId, NativeKind, NodeSpec, Status, Value, Vec2, Vocabulary};
+use libero_behavior::{
+    Args, Host, NativeId, NativeKind, NodeSpec, Status, Value, Vec2, Vocabulary,
+};
 
 /// A node's handler, by kind.
 #[derive(Clone, Copy)]
@@ -46,13 +48,25 @@ pub struct Native {
 
 impl Native {
     pub const fn condition(declare: fn() -> NodeSpec, run: fn(&AgentHost, &Ports) -> bool) -> Self {
-        Self { declare, run: Handler::Condition(run) }
+        Self {
+            declare,
+            run: Handler::Condition(run),
+        }
     }
-    pub const fn action(declare: fn() -> NodeSpec, run: fn(&mut AgentHost, &Ports) -> Status) -> Self {
-        Self { declare, run: Handler::Action(run) }
+    pub const fn action(
+        declare: fn() -> NodeSpec,
+        run: fn(&mut AgentHost, &Ports) -> Status,
+    ) -> Self {
+        Self {
+            declare,
+            run: Handler::Action(run),
+        }
     }
     pub const fn query(declare: fn() -> NodeSpec, run: fn(&AgentHost, &Ports) -> Value) -> Self {
-        Self { declare, run: Handler::Query(run) }
+        Self {
+            declare,
+            run: Handler::Query(run),
+        }
     }
 }
 
@@ -74,7 +88,12 @@ pub fn vocabulary() -> Vocabulary {
     let mut vocabulary = Vocabulary::new();
     for native in catalogue() {
         let spec = (native.declare)();
-        debug_assert_eq!(spec.kind, native.run.kind(), "node `{}` declared as another kind", spec.name);
+        debug_assert_eq!(
+            spec.kind,
+            native.run.kind(),
+            "node `{}` declared as another kind",
+            spec.name
+        );
         vocabulary.add(spec);
     }
     vocabulary
@@ -93,7 +112,11 @@ impl<'a> Ports<'a> {
 
     fn value(&self, name: &str) -> Option<&'a Value> {
         let index = self.spec.param_index(name);
-        debug_assert!(index.is_some(), "node `{}` has no port `{name}`", self.spec.name);
+        debug_assert!(
+            index.is_some(),
+            "node `{}` has no port `{name}`",
+            self.spec.name
+        );
         self.args.get(index?)
     }
 
@@ -141,7 +164,9 @@ impl Default for Natives {
 
 impl std::fmt::Debug for Natives {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Natives").field("nodes", &self.by_id.len()).finish()
+        f.debug_struct("Natives")
+            .field("nodes", &self.by_id.len())
+            .finish()
     }
 }
 

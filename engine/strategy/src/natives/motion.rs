@@ -25,7 +25,11 @@ fn beam_to_formation_ports() -> NodeSpec {
 fn beam_to_formation(host: &mut AgentHost, _: &Ports) -> Status {
     let p = host
         .strategy
-        .position(host.situation(), host.unum(), libero_behavior::Vec2::new(0.0, 0.0))
+        .position(
+            host.situation(),
+            host.unum(),
+            libero_behavior::Vec2::new(0.0, 0.0),
+        )
         .map(own)
         .unwrap_or_else(|| host.me());
     host.intent.beam = Some([p.x, p.y, 0.0]);
@@ -55,21 +59,24 @@ fn stand(host: &mut AgentHost, _: &Ports) -> Status {
 }
 
 fn look_around_ports() -> NodeSpec {
-    NodeSpec::action("LookAround", "Pans the head to scan the field; runs until halted.")
-        .param(
-            ParamSpec::new("amplitude", ValueType::Float)
-                .unit("rad")
-                .range(0.0, 2.0)
-                .default(Value::Float(1.2))
-                .doc("pan half-range"),
-        )
-        .param(
-            ParamSpec::new("period", ValueType::Float)
-                .unit("s")
-                .range(0.2, 20.0)
-                .default(Value::Float(4.0))
-                .doc("time for a full sweep"),
-        )
+    NodeSpec::action(
+        "LookAround",
+        "Pans the head to scan the field; runs until halted.",
+    )
+    .param(
+        ParamSpec::new("amplitude", ValueType::Float)
+            .unit("rad")
+            .range(0.0, 2.0)
+            .default(Value::Float(1.2))
+            .doc("pan half-range"),
+    )
+    .param(
+        ParamSpec::new("period", ValueType::Float)
+            .unit("s")
+            .range(0.2, 20.0)
+            .default(Value::Float(4.0))
+            .doc("time for a full sweep"),
+    )
 }
 
 fn look_around(host: &mut AgentHost, ports: &Ports) -> Status {
@@ -181,7 +188,11 @@ impl AgentHost<'_> {
             &obstacles,
             self.world.time,
         );
-        self.walk_towards(waypoint, if waypoint == target { face } else { None }, max_speed);
+        self.walk_towards(
+            waypoint,
+            if waypoint == target { face } else { None },
+            max_speed,
+        );
         Status::Running
     }
 
@@ -226,24 +237,22 @@ impl AgentHost<'_> {
         // Far from the ball (and not yet kicking), walk round obstacles, the ball among them, to
         // a point behind it on the kick line; there the kick skill's own approach takes over.
         if self.skills.kick == KickState::Idle && me.distance(ball) > avoidance.handover_m {
-            let behind = ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
+            let behind =
+                ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
             let obstacles = self.obstacles(Some(ball));
             let field = self.strategy.field();
-            let waypoint = self.memory.avoidance.next_waypoint(
-                &avoidance,
-                &field,
-                me,
-                behind,
-                &obstacles,
-                world.time,
-            );
+            let waypoint = self
+                .memory
+                .avoidance
+                .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
             self.walk_towards(waypoint, Some(ball), f64::INFINITY);
             self.look_at_ball();
             return Status::Running;
         }
-        let heading = self.world.pose().relative_angle(
-            self.global_of(ball).bearing_to(self.global_of(target)),
-        );
+        let heading = self
+            .world
+            .pose()
+            .relative_angle(self.global_of(ball).bearing_to(self.global_of(target)));
         let to_target = ball.distance(target);
         self.intent.body = BodyIntent::Kick {
             // Straight from the camera when fresh: the kick places the foot relative to the ball.
@@ -257,7 +266,9 @@ impl AgentHost<'_> {
     /// Points the head at the ball's estimate.
     pub(crate) fn look_at_ball(&mut self) {
         self.intent.head = HeadIntent::LookAt {
-            target: self.world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
+            target: self
+                .world
+                .ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
         };
     }
 }

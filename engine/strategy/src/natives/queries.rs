@@ -28,7 +28,11 @@ fn opponent_goal(host: &AgentHost, _: &Ports) -> Value {
 }
 
 fn ball_position_ports() -> NodeSpec {
-    NodeSpec::query("ball_position", ValueType::Vec2, "Estimated ball position (m, own frame).")
+    NodeSpec::query(
+        "ball_position",
+        ValueType::Vec2,
+        "Estimated ball position (m, own frame).",
+    )
 }
 
 fn ball_position(host: &AgentHost, _: &Ports) -> Value {
@@ -36,7 +40,11 @@ fn ball_position(host: &AgentHost, _: &Ports) -> Value {
 }
 
 fn ball_distance_ports() -> NodeSpec {
-    NodeSpec::query("ball_distance", ValueType::Float, "Distance from the robot to the ball (m).")
+    NodeSpec::query(
+        "ball_distance",
+        ValueType::Float,
+        "Distance from the robot to the ball (m).",
+    )
 }
 
 fn ball_distance(host: &AgentHost, _: &Ports) -> Value {
@@ -44,7 +52,11 @@ fn ball_distance(host: &AgentHost, _: &Ports) -> Value {
 }
 
 fn my_position_ports() -> NodeSpec {
-    NodeSpec::query("my_position", ValueType::Vec2, "Estimated robot position (m, own frame).")
+    NodeSpec::query(
+        "my_position",
+        ValueType::Vec2,
+        "Estimated robot position (m, own frame).",
+    )
 }
 
 fn my_position(host: &AgentHost, _: &Ports) -> Value {
@@ -68,7 +80,11 @@ fn formation_position(host: &AgentHost, _: &Ports) -> Value {
 }
 
 fn play_time_ports() -> NodeSpec {
-    NodeSpec::query("play_time", ValueType::Float, "Seconds since kick-off of the half.")
+    NodeSpec::query(
+        "play_time",
+        ValueType::Float,
+        "Seconds since kick-off of the half.",
+    )
 }
 
 fn play_time(host: &AgentHost, _: &Ports) -> Value {

@@ -71,7 +71,13 @@ fn a_defender_on_the_line_blocks_and_out_of_range_is_zero() {
     let blocked = p.probability(ball, target, &field(), &spread(2.0), &wall);
     assert!(blocked < 0.05, "{blocked}");
     // Too far (16 m > max 14 m) or behind the ball.
-    let far = p.probability(Own::new(11.5, 0.0), target, &field(), &spread(2.0), &Defenders::default());
+    let far = p.probability(
+        Own::new(11.5, 0.0),
+        target,
+        &field(),
+        &spread(2.0),
+        &Defenders::default(),
+    );
     assert_eq!(far, 0.0);
     // A wider kick spread lowers the chance into a corner.
     let corner = Own::new(27.5, 1.53);
