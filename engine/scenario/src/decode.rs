@@ -62,7 +62,9 @@ impl<'r> Decoder<'r> {
             NodeKind::Struct {
                 name: found,
                 body: Body::Fields(fields),
-            } if found.as_ref().is_none_or(|f| f.name == name) => Some(Fields::new(node.span, fields)),
+            } if found.as_ref().is_none_or(|f| f.name == name) => {
+                Some(Fields::new(node.span, fields))
+            }
             NodeKind::Struct {
                 name: found,
                 body: Body::Items(items),

@@ -31,8 +31,13 @@ pub enum Verdict {
     Pending,
     /// Not broken so far: met if the run ended now.
     Holding,
-    Succeeded { t: f64 },
-    Failed { t: f64, why: String },
+    Succeeded {
+        t: f64,
+    },
+    Failed {
+        t: f64,
+        why: String,
+    },
 }
 
 impl Verdict {
@@ -142,9 +147,10 @@ fn leaf(
             why: format!("goal against at {t:.2} s"),
         },
         Success::BallReached { unum, within_m } => {
-            let reached = o.ball.zip(o.ours.iter().find(|(u, _)| u == unum)).is_some_and(
-                |(b, (_, p))| (b[0] - p[0]).hypot(b[1] - p[1]) <= *within_m,
-            );
+            let reached = o
+                .ball
+                .zip(o.ours.iter().find(|(u, _)| u == unum))
+                .is_some_and(|(b, (_, p))| (b[0] - p[0]).hypot(b[1] - p[1]) <= *within_m);
             if reached {
                 Verdict::Succeeded { t }
             } else {
@@ -305,10 +311,7 @@ mod tests {
 
     #[test]
     fn any_succeeds_at_the_first_part_and_pending_parts_fail_at_the_end() {
-        let s = Success::Any(vec![
-            Success::GoalScored,
-            Success::BallMoved { min_m: 2.0 },
-        ]);
+        let s = Success::Any(vec![Success::GoalScored, Success::BallMoved { min_m: 2.0 }]);
         let mut j = Judge::new(&s);
         j.observe(&obs(0.0));
         let mut o = obs(3.0);

@@ -2,7 +2,8 @@
 
 use crate::decode::{head, items, Decoder};
 use crate::spec::{
-    aimed_heading, rest_point, BallSpec, Launch, Num, Play, Point, Robot, Rng, Scenario, Success,
+    aimed_heading, rest_point, BallSpec, Launch, Num, Place, Play, Point, Rng, Robot, Scenario,
+    Success,
 };
 use libero_behavior::diagnostics::{did_you_mean, Diagnostic, Report, SourceFile};
 use libero_behavior::syntax::{self, Node, NodeKind, Span};
@@ -121,33 +122,45 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
     }
     let field = match f.take("field") {
         None => FieldGeometry::builtin("fifa7vs7").ok(),
-        Some(node) => d.string(node).and_then(|n| match FieldGeometry::builtin(&n) {
-            Ok(g) => Some(g),
-            Err(_) => {
-                let known = FieldGeometry::builtin_names();
-                let hint = did_you_mean(&n, known.iter().copied())
-                    .unwrap_or_else(|| format!("built-in fields: {}", known.join(", ")));
-                d.error_hint(
-                    "unknown-field-geometry",
-                    node.span,
-                    format!("unknown field `{n}`"),
-                    hint,
-                );
-                None
-            }
-        }),
+        Some(node) => d
+            .string(node)
+            .and_then(|n| match FieldGeometry::builtin(&n) {
+                Ok(g) => Some(g),
+                Err(_) => {
+                    let known = FieldGeometry::builtin_names();
+                    let hint = did_you_mean(&n, known.iter().copied())
+                        .unwrap_or_else(|| format!("built-in fields: {}", known.join(", ")));
+                    d.error_hint(
+                        "unknown-field-geometry",
+                        node.span,
+                        format!("unknown field `{n}`"),
+                        hint,
+                    );
+                    None
+                }
+            }),
     };
     // Without a known field nothing else can be checked against it; check the shapes anyway.
     let geometry = field
         .clone()
         .or_else(|| FieldGeometry::builtin("fifa7vs7").ok())?;
     let max_unum = if geometry.length > 80.0 { 11 } else { 7 };
+    let ball_node = f.require(d, "ball");
+    let ball = ball_node.and_then(|n| ball(d, n, &geometry));
     let ours = f
         .require(d, "ours")
-        .and_then(|n| team(d, n, "ours", Play::Tree, &geometry, max_unum));
+        .and_then(|n| team(d, n, "ours", Play::Tree, &geometry, max_unum, ball.as_ref()));
     let theirs = match f.take("theirs") {
         None => Some(Vec::new()),
-        Some(n) => team(d, n, "theirs", Play::Stand, &geometry, max_unum),
+        Some(n) => team(
+            d,
+            n,
+            "theirs",
+            Play::Stand,
+            &geometry,
+            max_unum,
+            ball.as_ref(),
+        ),
     };
     if let (Some(o), Some(node)) = (&ours, f.take("ours")) {
         if o.is_empty() {
@@ -159,8 +172,6 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
             );
         }
     }
-    let ball_node = f.require(d, "ball");
-    let ball = ball_node.and_then(|n| ball(d, n, &geometry));
     let settle_s = match f.take("settle_s") {
         None => Some(1.0),
         Some(n) => d.float_in(n, 0.0, 10.0, "s"),
@@ -194,13 +205,14 @@ fn team(
     default_play: Play,
     field: &FieldGeometry,
     max_unum: i64,
+    ball: Option<&BallSpec>,
 ) -> Option<Vec<Robot>> {
     let list = d.list(node)?;
     let mut robots = Vec::new();
     let mut seen: Vec<(u32, Span)> = Vec::new();
     let mut ok = true;
     for item in list {
-        match robot(d, item, default_play, field, max_unum) {
+        match robot(d, item, default_play, field, max_unum, ball) {
             Some((robot, unum_span)) => {
                 if seen.iter().any(|(u, _)| *u == robot.unum) {
                     d.error_hint(
@@ -226,11 +238,12 @@ fn robot(
     default_play: Play,
     field: &FieldGeometry,
     max_unum: i64,
+    ball: Option<&BallSpec>,
 ) -> Option<(Robot, Span)> {
     let mut f = d.fields(node, "Robot")?;
     let unum_node = f.require(d, "unum");
     let unum = unum_node.and_then(|n| d.int_in(n, 1, max_unum));
-    let at = f.require(d, "at").and_then(|n| on_field(d, n, field, 0.0));
+    let at = f.require(d, "at").and_then(|n| place(d, n, field, ball));
     let heading = match f.take("heading_deg") {
         None => Some(Num::Fixed(0.0)),
         Some(n) => num(d, n, -360.0, 360.0, "deg"),
@@ -263,6 +276,42 @@ fn robot(
     ))
 }
 
+/// A robot's place: a field point, or `FromBall(dx: .., dy: ..)` (an offset from the ball's
+/// spot) whose every draw lands on the field.
+fn place(
+    d: &mut Decoder,
+    node: &Node,
+    field: &FieldGeometry,
+    ball: Option<&BallSpec>,
+) -> Option<Place> {
+    if head(node).map(|(n, _)| n) != Some("FromBall") {
+        return on_field(d, node, field, 0.0).map(Place::At);
+    }
+    let mut f = d.fields(node, "FromBall")?;
+    let dx = f.require(d, "dx").and_then(|n| num(d, n, -60.0, 60.0, "m"));
+    let dy = f.require(d, "dy").and_then(|n| num(d, n, -60.0, 60.0, "m"));
+    f.finish(d, &["dx", "dy"]);
+    let (dx, dy) = (dx?, dy?);
+    // Without a valid ball there is nothing to check the offset against (its error is reported).
+    let ball = ball?;
+    let (hx, hy) = field.half_extent();
+    let (x_lo, x_hi) = (ball.at.x.lo() + dx.lo(), ball.at.x.hi() + dx.hi());
+    let (y_lo, y_hi) = (ball.at.y.lo() + dy.lo(), ball.at.y.hi() + dy.hi());
+    if x_lo < -hx || x_hi > hx || y_lo < -hy || y_hi > hy {
+        d.error_hint(
+            "off-field",
+            node.span,
+            format!(
+                "placed from the ball this robot can land off the {} field (x {x_lo:.2}…{x_hi:.2}, y {y_lo:.2}…{y_hi:.2} m)",
+                field.name
+            ),
+            format!("the field spans x within ±{hx}, y within ±{hy} m"),
+        );
+        return None;
+    }
+    Some(Place::FromBall { dx, dy })
+}
+
 /// A fixed number or `Range(lo, hi)` with both ends within [min, max].
 fn num(d: &mut Decoder, node: &Node, min: f64, max: f64, unit: &str) -> Option<Num> {
     match head(node) {
@@ -272,13 +321,18 @@ fn num(d: &mut Decoder, node: &Node, min: f64, max: f64, unit: &str) -> Option<N
                 d.expected(node, "`Range(lo, hi)` with two numbers");
                 return None;
             };
-            let (lo_v, hi_v) = (d.float_in(lo, min, max, unit), d.float_in(hi, min, max, unit));
+            let (lo_v, hi_v) = (
+                d.float_in(lo, min, max, unit),
+                d.float_in(hi, min, max, unit),
+            );
             let (lo_v, hi_v) = (lo_v?, hi_v?);
             if lo_v >= hi_v {
                 d.error_hint(
                     "empty-range",
                     node.span,
-                    format!("Range({lo_v}, {hi_v}) is empty: the low end must be below the high end"),
+                    format!(
+                        "Range({lo_v}, {hi_v}) is empty: the low end must be below the high end"
+                    ),
                     format!("for a fixed value write the number itself, e.g. `{lo_v}`"),
                 );
                 return None;
@@ -307,15 +361,24 @@ fn point(d: &mut Decoder, node: &Node, limit: f64) -> Option<Point> {
         return None;
     }
     let mut f = d.fields(node, "")?;
-    let x = f.require(d, "x").and_then(|n| num(d, n, -limit, limit, "m"));
-    let y = f.require(d, "y").and_then(|n| num(d, n, -limit, limit, "m"));
+    let x = f
+        .require(d, "x")
+        .and_then(|n| num(d, n, -limit, limit, "m"));
+    let y = f
+        .require(d, "y")
+        .and_then(|n| num(d, n, -limit, limit, "m"));
     f.finish(d, &["x", "y"]);
     Some(Point { x: x?, y: y? })
 }
 
 /// A point whose whole range lies on the field, or within `beyond_goal_line` metres behind a
 /// goal line.
-fn on_field(d: &mut Decoder, node: &Node, field: &FieldGeometry, beyond_goal_line: f64) -> Option<Point> {
+fn on_field(
+    d: &mut Decoder,
+    node: &Node,
+    field: &FieldGeometry,
+    beyond_goal_line: f64,
+) -> Option<Point> {
     let p = point(d, node, 1000.0)?;
     let (hx, hy) = field.half_extent();
     let hx = hx + beyond_goal_line;
@@ -364,7 +427,9 @@ fn launch(d: &mut Decoder, node: &Node, field: &FieldGeometry) -> Option<Launch>
     match head(node) {
         Some(("Velocity", _)) => {
             let mut f = d.fields(node, "Velocity")?;
-            let speed = f.require(d, "speed_m_s").and_then(|n| num(d, n, 0.1, 15.0, "m/s"));
+            let speed = f
+                .require(d, "speed_m_s")
+                .and_then(|n| num(d, n, 0.1, 15.0, "m/s"));
             let dir = f
                 .require(d, "direction_deg")
                 .and_then(|n| num(d, n, -360.0, 360.0, "deg"));
@@ -379,7 +444,9 @@ fn launch(d: &mut Decoder, node: &Node, field: &FieldGeometry) -> Option<Launch>
             let target = f
                 .require(d, "target")
                 .and_then(|n| on_field(d, n, field, field.goal_depth));
-            let speed = f.require(d, "speed_m_s").and_then(|n| num(d, n, 0.1, 15.0, "m/s"));
+            let speed = f
+                .require(d, "speed_m_s")
+                .and_then(|n| num(d, n, 0.1, 15.0, "m/s"));
             f.finish(d, &["target", "speed_m_s"]);
             Some(Launch::Towards {
                 target: target?,
@@ -428,7 +495,11 @@ fn launch_reaches(d: &mut Decoder, span: Span, field: &FieldGeometry, at: Point,
         }
     }
     for _ in 0..LAUNCH_CHECKS {
-        draws.push((at.draw(&mut rng), target.draw(&mut rng), speed_m_s.draw(&mut rng)));
+        draws.push((
+            at.draw(&mut rng),
+            target.draw(&mut rng),
+            speed_m_s.draw(&mut rng),
+        ));
     }
     for (from, to, v) in draws {
         let short = shortfall(&ball, from, to, v);
@@ -447,7 +518,12 @@ fn launch_reaches(d: &mut Decoder, span: Span, field: &FieldGeometry, at: Point,
     );
     let hint = "raise the speed or bring the ball closer (rest distances from the world model's launch table: about 11 m at 4.5 m/s)";
     if in_goal {
-        d.error_hint("launch-short", span, format!("not on target: {message}"), hint);
+        d.error_hint(
+            "launch-short",
+            span,
+            format!("not on target: {message}"),
+            hint,
+        );
     } else {
         d.warning_hint("launch-short", span, message, hint);
     }
@@ -520,11 +596,17 @@ fn success(d: &mut Decoder, node: &Node, ours: &[Robot], ours_known: bool) -> Op
             };
             let parts = d.list(list)?;
             if parts.is_empty() {
-                d.error("empty-composite", node.span, format!("`{name}` has no condition"));
+                d.error(
+                    "empty-composite",
+                    node.span,
+                    format!("`{name}` has no condition"),
+                );
                 return None;
             }
-            let parts: Vec<Option<Success>> =
-                parts.iter().map(|p| success(d, p, ours, ours_known)).collect();
+            let parts: Vec<Option<Success>> = parts
+                .iter()
+                .map(|p| success(d, p, ours, ours_known))
+                .collect();
             let parts: Option<Vec<Success>> = parts.into_iter().collect();
             let parts = parts?;
             Some(if name == "All" {
@@ -553,8 +635,11 @@ fn success(d: &mut Decoder, node: &Node, ours: &[Robot], ours_known: bool) -> Op
 
 /// Robots whose placements are fixed and closer than `MIN_PLACEMENT_GAP_M`: a warning.
 fn placement_gaps(d: &mut Decoder, node: &Node, ours: &[Robot], theirs: &[Robot]) {
-    let fixed = |r: &Robot| match (r.at.x, r.at.y) {
-        (Num::Fixed(x), Num::Fixed(y)) => Some([x, y]),
+    let fixed = |r: &Robot| match r.at {
+        Place::At(Point {
+            x: Num::Fixed(x),
+            y: Num::Fixed(y),
+        }) => Some([x, y]),
         _ => None,
     };
     let all: Vec<(String, [f64; 2])> = ours

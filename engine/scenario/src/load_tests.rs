@@ -52,7 +52,7 @@ fn a_good_file_reads_with_defaults() {
     assert_eq!(s.name, "keeper_shots");
     assert_eq!(s.ours[0].play, Play::Tree);
     assert_eq!(s.theirs[0].unum, 4);
-    assert_eq!(s.theirs[0].at.y, Num::Range(-2.0, 2.0));
+    assert!(matches!(s.theirs[0].at, crate::spec::Place::At(p) if p.y == Num::Range(-2.0, 2.0)));
     assert_eq!(s.settle_s, 1.0);
     assert!(matches!(s.ball.launch, Some(Launch::Towards { .. })));
     assert!(matches!(&s.success, Success::All(p) if p.len() == 2));
@@ -91,9 +91,18 @@ fn unknown_and_missing_fields() {
     let (s, report) = check(&text);
     assert!(s.is_none());
     let text_out = report.render_text();
-    assert!(text_out.contains("missing field `time_limit_s`"), "{text_out}");
-    assert!(text_out.contains("unknown field `time_limt_s`"), "{text_out}");
-    assert!(text_out.contains("did you mean `time_limit_s`?"), "{text_out}");
+    assert!(
+        text_out.contains("missing field `time_limit_s`"),
+        "{text_out}"
+    );
+    assert!(
+        text_out.contains("unknown field `time_limt_s`"),
+        "{text_out}"
+    );
+    assert!(
+        text_out.contains("did you mean `time_limit_s`?"),
+        "{text_out}"
+    );
     assert!(text_out.contains("s.ron:11:5"), "{text_out}");
 }
 
@@ -137,7 +146,10 @@ fn a_shot_that_stops_short_is_not_on_target() {
 #[test]
 fn bad_conditions_and_choices() {
     let text = GOOD.replace("BallKeptOut,", "BallKeptOot,");
-    assert_eq!(one_error(&text), ("unknown-condition".into(), "12:19".into()));
+    assert_eq!(
+        one_error(&text),
+        ("unknown-condition".into(), "12:19".into())
+    );
     let text = GOOD.replace(
         "All([BallKeptOut, NoCollision(min_distance_m: 0.45)])",
         "BallReached(unum: 4, within_m: 0.5)",
@@ -147,8 +159,30 @@ fn bad_conditions_and_choices() {
     assert_eq!(one_error(&text), ("invalid-choice".into(), "6:84".into()));
     let text = GOOD.replace("Some(Towards(", "Some(Toward(");
     assert_eq!(one_error(&text).0, "invalid-choice");
-    let text = GOOD.replace("All([BallKeptOut, NoCollision(min_distance_m: 0.45)])", "All([])");
+    let text = GOOD.replace(
+        "All([BallKeptOut, NoCollision(min_distance_m: 0.45)])",
+        "All([])",
+    );
     assert_eq!(one_error(&text).0, "empty-composite");
+}
+
+#[test]
+fn robots_placed_from_the_ball() {
+    let text = GOOD.replace(
+        "at: (-14.0, Range(-2.0, 2.0))",
+        "at: FromBall(dx: Range(0.8, 1.2), dy: 0.0)",
+    );
+    let (s, report) = check(&text);
+    assert!(!report.has_errors(), "{}", report.render_text());
+    let s = s.unwrap();
+    let r = s.draw(3, 0, &WorldParams::builtin().ball);
+    let gap = r.theirs[0].pose[0] - r.ball[0];
+    assert!((0.8..=1.2).contains(&gap) && r.theirs[0].pose[1] == r.ball[1]);
+    let text = GOOD.replace(
+        "at: (-14.0, Range(-2.0, 2.0))",
+        "at: FromBall(dx: -15.0, dy: 0.0)",
+    );
+    assert_eq!(one_error(&text), ("off-field".into(), "6:33".into()));
 }
 
 #[test]
@@ -163,7 +197,13 @@ fn an_empty_team_of_ours() {
 #[test]
 fn not_utf8_and_hostile_input_do_not_panic() {
     let mut report = Report::default();
-    for text in ["", "Scenario(", "Scenario(name: [[[[", "((((((((", "Scenario(ours: 1e999)"] {
+    for text in [
+        "",
+        "Scenario(",
+        "Scenario(name: [[[[",
+        "((((((((",
+        "Scenario(ours: 1e999)",
+    ] {
         let _ = load_text(Path::new("x.ron"), text.to_string(), &mut report);
     }
     assert!(report.has_errors());
@@ -179,6 +219,9 @@ fn print_rest_distances() {
         println!("{v} m/s: rest {d0:.2} m along an axis, {d30:.2} m at 29°");
     }
     for d in [10.0, 11.0, 12.0] {
-        println!("{d} m: {:.2} m/s", ball.launch_table.speed_for_distance(d, 0.0));
+        println!(
+            "{d} m: {:.2} m/s",
+            ball.launch_table.speed_for_distance(d, 0.0)
+        );
     }
 }

@@ -209,7 +209,8 @@ impl Arena {
     }
 
     fn placed(&mut self, setup: &RunSetup) -> bool {
-        let near = |a: [f64; 2], b: [f64; 2], within: f64| (a[0] - b[0]).hypot(a[1] - b[1]) < within;
+        let near =
+            |a: [f64; 2], b: [f64; 2], within: f64| (a[0] - b[0]).hypot(a[1] - b[1]) < within;
         let snapshot = self.monitor().snapshot();
         let ball_ok = snapshot
             .ball
@@ -370,7 +371,9 @@ impl LaunchTracker {
         // Where the ball first crossed a goal line: interpolated.
         if let (Some(last), None) = (self.last, self.goal_line_y) {
             for line in [-self.goal_line_x, self.goal_line_x] {
-                if (last[0] - line).signum() != (b[0] - line).signum() && (b[0] - last[0]).abs() > 1e-9 {
+                if (last[0] - line).signum() != (b[0] - line).signum()
+                    && (b[0] - last[0]).abs() > 1e-9
+                {
                     let w = (line - last[0]) / (b[0] - last[0]);
                     self.goal_line_y = Some(last[1] + w * (b[1] - last[1]));
                 }

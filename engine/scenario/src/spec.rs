@@ -63,10 +63,18 @@ impl Play {
     }
 }
 
+/// Where a robot is placed: a field point, or an offset from the ball's spot (drawn first), so
+/// "behind the ball" stays behind it whatever the ball's draw.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Place {
+    At(Point),
+    FromBall { dx: Num, dy: Num },
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Robot {
     pub unum: u32,
-    pub at: Point,
+    pub at: Place,
     pub heading_deg: Num,
     pub play: Play,
 }
@@ -189,11 +197,15 @@ impl Scenario {
     /// situation, whatever the number of runs.
     pub fn draw(&self, seed: u64, index: usize, ball: &BallParams) -> RunSetup {
         let mut rng = Rng::new(seed ^ (index as u64 + 1).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let at = self.ball.at.draw(&mut rng);
         let place = |robots: &[Robot], rng: &mut Rng| {
             robots
                 .iter()
                 .map(|r| {
-                    let [x, y] = r.at.draw(rng);
+                    let [x, y] = match r.at {
+                        Place::At(p) => p.draw(rng),
+                        Place::FromBall { dx, dy } => [at[0] + dx.draw(rng), at[1] + dy.draw(rng)],
+                    };
                     Placement {
                         unum: r.unum,
                         pose: [x, y, r.heading_deg.draw(rng)],
@@ -204,7 +216,6 @@ impl Scenario {
         };
         let ours = place(&self.ours, &mut rng);
         let theirs = place(&self.theirs, &mut rng);
-        let at = self.ball.at.draw(&mut rng);
         let (ball_velocity, target) = match self.ball.launch {
             None => ([0.0, 0.0], None),
             Some(Launch::Velocity {
