@@ -236,7 +236,8 @@ fn time(v: &Verdict) -> f64 {
     }
 }
 
-/// The two torsos closest to each other, with names for messages.
+/// The two torsos closest to each other of the pairs with one of ours in them (how close
+/// their robots stand to each other is not ours to judge), with names for messages.
 fn closest_pair(o: &Observation) -> Option<(f64, String)> {
     let all: Vec<(String, [f64; 2])> = o
         .ours
@@ -245,7 +246,7 @@ fn closest_pair(o: &Observation) -> Option<(f64, String)> {
         .chain(o.theirs.iter().map(|(u, p)| (format!("their {u}"), *p)))
         .collect();
     let mut best: Option<(f64, String)> = None;
-    for (i, (a, pa)) in all.iter().enumerate() {
+    for (i, (a, pa)) in all.iter().enumerate().take(o.ours.len()) {
         for (b, pb) in &all[i + 1..] {
             let gap = (pa[0] - pb[0]).hypot(pa[1] - pb[1]);
             if best.as_ref().is_none_or(|(g, _)| gap < *g) {

@@ -10,7 +10,7 @@
 
 use crate::judge::{Judge, Observation, Verdict};
 use crate::spec::{Placement, Play, RunSetup, Scenario};
-use crate::summary::{LaunchMeasure, RunOutcome};
+use crate::summary::{LaunchMeasure, RobotTravel, RunOutcome};
 use libero_agent::build::{standing_player, tree_player};
 use libero_agent::{AgentConfig, AgentStats, LibrarySource, Player, SkillSource, Team};
 use libero_model::RobotModel;
@@ -240,6 +240,10 @@ impl Arena {
         );
         self.monitor().send(&launch)?;
         let t0 = self.now();
+        let start_truth: Vec<(bool, u32, [f64; 2])> = [true, false]
+            .into_iter()
+            .flat_map(|ours| self.truth(ours).into_iter().map(move |(u, p)| (ours, u, p)))
+            .collect();
         let mut judge = Judge::new(&scenario.success);
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
@@ -282,6 +286,22 @@ impl Arena {
             }
         };
         let s = self.monitor().snapshot();
+        let robots = start_truth
+            .iter()
+            .map(|&(ours, unum, from)| {
+                let to = self
+                    .truth(ours)
+                    .into_iter()
+                    .find(|(u, _)| *u == unum)
+                    .map_or(from, |(_, p)| p);
+                RobotTravel {
+                    ours,
+                    unum,
+                    from,
+                    to,
+                }
+            })
+            .collect();
         let (success, time_s, why) = match verdict {
             Verdict::Succeeded { t } => (true, Some(t), None),
             Verdict::Failed { why, .. } => (false, None, Some(why)),
@@ -300,6 +320,7 @@ impl Arena {
             closest_m: judge.closest.map(|(g, _)| g),
             ball_travel_m: measure.max_travel,
             goal_line_y: measure.goal_line_y,
+            robots,
         })
     }
 

@@ -106,7 +106,7 @@ pub enum Success {
     BallReached { unum: u32, within_m: f64 },
     /// The ball ends up at least `min_m` from where it was placed (it was kicked).
     BallMoved { min_m: f64 },
-    /// No two torsos ever closer than `min_distance_m` (ground plane).
+    /// No torso of ours ever closer than `min_distance_m` to another torso (ground plane).
     NoCollision { min_distance_m: f64 },
     /// Every part holds.
     All(Vec<Success>),

@@ -12,6 +12,21 @@ pub struct LaunchMeasure {
     pub mean_speed_m_s: f64,
 }
 
+/// Where a robot was at the launch and at the end of the run (ground truth).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RobotTravel {
+    pub ours: bool,
+    pub unum: u32,
+    pub from: [f64; 2],
+    pub to: [f64; 2],
+}
+
+impl RobotTravel {
+    pub fn distance_m(&self) -> f64 {
+        (self.to[0] - self.from[0]).hypot(self.to[1] - self.from[1])
+    }
+}
+
 /// One run's result.
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
@@ -34,6 +49,8 @@ pub struct RunOutcome {
     pub ball_travel_m: f64,
     /// Where the ball first crossed a goal line (y [m]), if it did.
     pub goal_line_y: Option<f64>,
+    /// Every robot's start and end.
+    pub robots: Vec<RobotTravel>,
 }
 
 #[derive(Serialize)]
@@ -75,6 +92,7 @@ struct JsonRun {
     goals_for: u32,
     goals_against: u32,
     closest_m: Option<f64>,
+    robots: Vec<RobotTravel>,
     ours: Vec<JsonPlacement>,
     theirs: Vec<JsonPlacement>,
 }
@@ -179,6 +197,17 @@ impl Summary {
         if let Some(c) = r.closest_m {
             line.push_str(&format!(", closest torsos {c:.2} m"));
         }
+        let moved: Vec<String> = r
+            .robots
+            .iter()
+            .map(|m| {
+                let side = if m.ours { "our" } else { "their" };
+                format!("{side} {} {:.1} m", m.unum, m.distance_m())
+            })
+            .collect();
+        if !moved.is_empty() {
+            line.push_str(&format!(", moved: {}", moved.join(", ")));
+        }
         line
     }
 
@@ -232,6 +261,7 @@ impl Summary {
                 goals_for: r.goals_for,
                 goals_against: r.goals_against,
                 closest_m: r.closest_m,
+                robots: r.robots.clone(),
                 ours: placements(&r.setup.ours),
                 theirs: placements(&r.setup.theirs),
             })
