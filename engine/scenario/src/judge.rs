@@ -191,7 +191,7 @@ fn combine(node: &Node) -> Verdict {
             {
                 return failed.clone();
             }
-            if verdicts.iter().any(|v| *v == Verdict::Pending) {
+            if verdicts.contains(&Verdict::Pending) {
                 return Verdict::Pending;
             }
             let succeeded: Vec<f64> = verdicts
@@ -214,10 +214,10 @@ fn combine(node: &Node) -> Verdict {
             {
                 return Verdict::Succeeded { t };
             }
-            if verdicts.iter().any(|v| *v == Verdict::Holding) {
+            if verdicts.contains(&Verdict::Holding) {
                 return Verdict::Holding;
             }
-            if verdicts.iter().any(|v| *v == Verdict::Pending) {
+            if verdicts.contains(&Verdict::Pending) {
                 return Verdict::Pending;
             }
             // Every part failed: the last failure decides.
