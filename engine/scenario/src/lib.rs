@@ -57,8 +57,8 @@ pub fn is_scenario_file(path: &Path) -> bool {
 }
 
 /// Run `runs` situations drawn from `scenario` with `seed` on one server; `each` sees every
-/// outcome as it comes. A server failure ends the series early with what was run so far and
-/// the error.
+/// outcome as it comes. A run the server fails in is retried once on a fresh server; a second
+/// failure ends the series early with what was run so far and the error.
 pub fn run_series(
     scenario: &Scenario,
     file: &Path,
@@ -81,16 +81,35 @@ pub fn run_series(
         Err(e) => return (summary, Some(e)),
     };
     let mut error = None;
-    for index in 0..runs {
+    'runs: for index in 0..runs {
         let setup = scenario.draw(seed, index, arena.ball_params());
-        match arena.run(scenario, &setup) {
-            Ok(outcome) => {
-                each(&outcome);
-                summary.runs.push(outcome);
-            }
-            Err(e) => {
-                error = Some(e);
-                break;
+        // A run the server fails in (rcsssmj 0.2.1 can die or stall) is run again once on a
+        // fresh server with freshly connected robots.
+        for attempt in 1..=2 {
+            match arena.run(scenario, &setup) {
+                Ok(outcome) => {
+                    each(&outcome);
+                    summary.runs.push(outcome);
+                    continue 'runs;
+                }
+                Err(e) if attempt == 1 => {
+                    log::warn!(
+                        "scenario: run {} failed ({e}); restarting the server",
+                        index + 1
+                    );
+                    arena.stop();
+                    arena = match Arena::start(scenario, data) {
+                        Ok(a) => a,
+                        Err(e) => {
+                            summary.wall_s = started.elapsed().as_secs_f64();
+                            return (summary, Some(e));
+                        }
+                    };
+                }
+                Err(e) => {
+                    error = Some(e);
+                    break 'runs;
+                }
             }
         }
     }

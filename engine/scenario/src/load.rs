@@ -516,7 +516,7 @@ fn launch_reaches(d: &mut Decoder, span: Span, field: &FieldGeometry, at: Point,
         "a ball launched at {v:.2} m/s from ({:.2}, {:.2}) towards ({:.2}, {:.2}) stops {short:.2} m short of it",
         from[0], from[1], to[0], to[1]
     );
-    let hint = "raise the speed or bring the ball closer (rest distances from the world model's launch table: about 11 m at 4.5 m/s)";
+    let hint = "raise the speed or bring the ball closer (rest distances from the world model's launch table: about 11 m at 5.4 m/s along a field axis, farther towards a diagonal)";
     if in_goal {
         d.error_hint(
             "launch-short",

@@ -225,3 +225,21 @@ fn print_rest_distances() {
         );
     }
 }
+
+#[test]
+fn the_shipped_scenarios_are_valid() {
+    let dir = crate::default_scenarios_dir();
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4, "{files:?}");
+    for f in &files {
+        assert!(crate::is_scenario_file(f), "{}", f.display());
+    }
+    let report = crate::validate_files(&files);
+    assert!(report.diagnostics.is_empty(), "{}", report.render_text());
+}

@@ -112,3 +112,23 @@ pub fn nodes(args: NodesArgs) -> CliResult {
     }
     Ok(ExitCode::SUCCESS)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scenario_files_are_told_apart_from_trees_and_strategy_files() {
+        let scenarios = default_scenarios_dir();
+        let mut paths = default_data_dirs();
+        paths.push(scenarios.clone());
+        let (data, found) = split_scenarios(&paths);
+        // The tree and strategy folders go to the library whole; the scenarios are checked apart.
+        assert_eq!(data, default_data_dirs());
+        assert!(found.len() >= 4 && found.iter().all(|f| f.starts_with(&scenarios)));
+        let single = scenarios.join("keeper_shots.ron");
+        let (data, found) = split_scenarios(std::slice::from_ref(&single));
+        assert!(data.is_empty());
+        assert_eq!(found, vec![single]);
+    }
+}

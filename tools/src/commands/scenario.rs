@@ -30,6 +30,7 @@ pub struct ScenarioArgs {
 pub fn run(args: ScenarioArgs) -> CliResult {
     let mut report = Report::default();
     let scenario = load_file(&args.file, &mut report);
+    report.sort();
     if !report.diagnostics.is_empty() {
         eprint!("{}", report.render_text());
     }
