@@ -35,6 +35,8 @@ enum Command {
     Optimize(commands::optimize::OptimizeArgs),
     /// Measure a skill on a real server (e.g. `libero bench walk`).
     Bench(commands::bench::BenchArgs),
+    /// Run a scenario file's situation N times on a real server; success rate and times.
+    Scenario(commands::scenario::ScenarioArgs),
 }
 
 fn main() -> ExitCode {
@@ -51,6 +53,7 @@ fn main() -> ExitCode {
         Command::Nodes(args) => commands::behavior::nodes(args),
         Command::Optimize(args) => commands::optimize::run(args),
         Command::Bench(args) => commands::bench::run(args),
+        Command::Scenario(args) => commands::scenario::run(args),
     };
     match result {
         Ok(code) => code,

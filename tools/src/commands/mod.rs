@@ -5,6 +5,7 @@ pub mod behavior;
 pub mod bench;
 pub mod matchup;
 pub mod optimize;
+pub mod scenario;
 pub mod server;
 pub mod setup;
 pub mod team;

@@ -1,0 +1,416 @@
+//! Running a scenario on a real fast-mode rcssservermj, judged from its ground truth.
+//!
+//! One server and one set of agents serve every run of a series: each run drops the ball
+//! (`(dropBall)` is the monitor's way to PlayOn; `(playMode …)` does nothing in rcsssmj
+//! 0.2.1), places robots and ball with the monitor (resending moves the server ignored), lets
+//! the robots settle for `settle_s` with the ball at rest, launches the ball and judges every
+//! monitor update until the condition is decided, play stops or time runs out. Ground truth
+//! (torsos from each agent's percepts, ball from the monitor's scene graph) is only read here,
+//! never by the agents' decisions.
+
+use crate::judge::{Judge, Observation, Verdict};
+use crate::spec::{Placement, Play, RunSetup, Scenario};
+use crate::summary::{LaunchMeasure, RobotTravel, RunOutcome};
+use libero_agent::build::{standing_player, tree_player};
+use libero_agent::{AgentConfig, AgentStats, LibrarySource, Player, SkillSource, Team};
+use libero_model::RobotModel;
+use libero_server::{Monitor, ServerOptions, ServerProcess};
+use libero_world::params::BallParams;
+use libero_world::WorldParams;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Our team's name (connects first: plays from the left).
+pub const OUR_TEAM: &str = "Libero";
+/// The other team's name (plays from the right).
+pub const THEIR_TEAM: &str = "Opponent";
+/// Torso height for monitor placements: soles just on the ground.
+const PLACE_TORSO_Z_M: f64 = 0.6735;
+const BALL_Z_M: f64 = 0.11;
+/// A placement counts as done when ground truth is this close [m].
+const PLACED_WITHIN_M: f64 = 0.1;
+/// Resend a placement the server has not carried out after this much simulated time [s].
+const RESEND_AFTER_S: f64 = 0.4;
+const PLACE_ATTEMPTS: u32 = 8;
+/// The launch direction and speed are measured over this much simulated time [s].
+const LAUNCH_WINDOW_S: f64 = 0.3;
+/// A stalled server (simulated time not advancing) fails the series after this long.
+const STALL: Duration = Duration::from_secs(30);
+
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Server(#[from] libero_server::ServerError),
+    #[error("monitor: {0}")]
+    Monitor(#[from] std::io::Error),
+    #[error(transparent)]
+    Build(#[from] libero_agent::build::BuildError),
+    #[error("{0}")]
+    Setup(String),
+}
+
+/// Where the agents' data comes from.
+pub struct RunData {
+    pub library: LibrarySource,
+    pub skills: SkillSource,
+}
+
+struct Robot {
+    unum: u32,
+    ours: bool,
+    stats: Arc<AgentStats>,
+}
+
+/// A server with both teams connected, for one series of runs.
+pub struct Arena {
+    server: ServerProcess,
+    robots: Vec<Robot>,
+    teams: Vec<Team>,
+    shutdown: Arc<AtomicBool>,
+    ball: BallParams,
+}
+
+impl Arena {
+    /// Start a fast-mode server and connect the scenario's robots (ours first, so ours play
+    /// from the left).
+    pub fn start(scenario: &Scenario, data: &RunData) -> Result<Self, RunError> {
+        let server = ServerProcess::start(ServerOptions::default())?;
+        let model = Arc::new(
+            RobotModel::builtin("T1").map_err(|e| RunError::Setup(format!("T1 model: {e}")))?,
+        );
+        let shutdown = Arc::new(AtomicBool::new(false));
+        let config = AgentConfig::new("127.0.0.1", server.agent_port);
+        let mut robots = Vec::new();
+        let mut teams = Vec::new();
+        for (team, list, ours) in [
+            (OUR_TEAM, &scenario.ours, true),
+            (THEIR_TEAM, &scenario.theirs, false),
+        ] {
+            if list.is_empty() {
+                continue;
+            }
+            let mut players: Vec<Player> = Vec::new();
+            for r in list {
+                let player = match r.play {
+                    Play::Tree => tree_player(&model, team, r.unum, &data.library, &data.skills)?,
+                    Play::Stand => standing_player(&model, team, r.unum)?,
+                };
+                robots.push(Robot {
+                    unum: r.unum,
+                    ours,
+                    stats: Arc::clone(player.stats()),
+                });
+                players.push(player);
+            }
+            teams.push(Team::start(&config, players, Arc::clone(&shutdown)));
+        }
+        let arena = Self {
+            server,
+            robots,
+            teams,
+            shutdown,
+            ball: WorldParams::builtin().ball,
+        };
+        // Every agent must be answering before the first placement.
+        let deadline = Instant::now() + Duration::from_secs(60);
+        while arena
+            .robots
+            .iter()
+            .any(|r| AgentStats::get(&r.stats.percepts) == 0)
+        {
+            if Instant::now() > deadline {
+                return Err(RunError::Setup("the robots did not all connect".into()));
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        Ok(arena)
+    }
+
+    /// The ball model used to aim launches (the world model's).
+    pub fn ball_params(&self) -> &BallParams {
+        &self.ball
+    }
+
+    /// Server time [s]: the newest any agent has seen.
+    fn now(&self) -> f64 {
+        self.robots
+            .iter()
+            .map(|r| AgentStats::get(&r.stats.last_time_ms) as f64 / 1000.0)
+            .fold(0.0, f64::max)
+    }
+
+    fn monitor(&mut self) -> &mut Monitor {
+        self.server.monitor()
+    }
+
+    /// Wait until simulated time reaches `until` [s].
+    fn wait_until(&self, until: f64) -> Result<(), RunError> {
+        let mut last = (self.now(), Instant::now());
+        while self.now() < until {
+            let now = self.now();
+            if now > last.0 {
+                last = (now, Instant::now());
+            } else if last.1.elapsed() > STALL {
+                return Err(RunError::Setup(format!(
+                    "the server stalled at {now:.2} s of simulated time"
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(())
+    }
+
+    fn truth(&self, ours: bool) -> Vec<(u32, [f64; 2])> {
+        self.robots
+            .iter()
+            .filter(|r| r.ours == ours)
+            .filter_map(|r| r.stats.truth_position().map(|p| (r.unum, [p[0], p[1]])))
+            .collect()
+    }
+
+    /// Drop the ball (PlayOn), place robots and ball, and check the ground truth, resending
+    /// what was ignored.
+    fn place(&mut self, setup: &RunSetup) -> Result<(), RunError> {
+        // A goal's Goal_X turns into a kick-off 3 s later on its own; wait for that first.
+        let wait_from = Instant::now();
+        while self.monitor().snapshot().play_mode.starts_with("Goal_")
+            && wait_from.elapsed() < Duration::from_secs(20)
+        {
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let mut command = String::from("(dropBall)");
+        command.push_str(&format!(
+            "(ball (pos {} {} {BALL_Z_M})(vel 0 0 0))",
+            setup.ball[0], setup.ball[1]
+        ));
+        for (side, list) in [("Left", &setup.ours), ("Right", &setup.theirs)] {
+            for p in list.iter() {
+                command.push_str(&move_command(side, p));
+            }
+        }
+        for attempt in 1..=PLACE_ATTEMPTS {
+            let sent = self.now();
+            self.monitor().send(&command)?;
+            // Effects show two perceptions later.
+            self.wait_until(sent + 0.06)?;
+            let deadline = sent + RESEND_AFTER_S;
+            while self.now() < deadline {
+                if self.placed(setup) {
+                    return Ok(());
+                }
+                self.wait_until(self.now() + 0.02)?;
+            }
+            log::debug!("scenario: placement ignored (attempt {attempt}); sending it again");
+        }
+        Err(RunError::Setup(format!(
+            "the server did not carry out the placement in {PLACE_ATTEMPTS} attempts"
+        )))
+    }
+
+    fn placed(&mut self, setup: &RunSetup) -> bool {
+        let near =
+            |a: [f64; 2], b: [f64; 2], within: f64| (a[0] - b[0]).hypot(a[1] - b[1]) < within;
+        let snapshot = self.monitor().snapshot();
+        let ball_ok = snapshot
+            .ball
+            .is_some_and(|b| near([b[0], b[1]], setup.ball, 0.05));
+        let robots_ok = [(true, &setup.ours), (false, &setup.theirs)]
+            .into_iter()
+            .all(|(ours, list)| {
+                let truth = self.truth(ours);
+                list.iter().all(|p| {
+                    truth
+                        .iter()
+                        .find(|(u, _)| *u == p.unum)
+                        .is_some_and(|(_, t)| near(*t, [p.pose[0], p.pose[1]], PLACED_WITHIN_M))
+                })
+            });
+        ball_ok && robots_ok && snapshot.play_mode == "PlayOn"
+    }
+
+    /// Run one situation to its verdict.
+    pub fn run(&mut self, scenario: &Scenario, setup: &RunSetup) -> Result<RunOutcome, RunError> {
+        self.place(setup)?;
+        self.wait_until(self.now() + scenario.settle_s)?;
+        let start = self.monitor().snapshot();
+        let launch = format!(
+            "(ball (pos {} {} {BALL_Z_M})(vel {} {} 0))",
+            setup.ball[0], setup.ball[1], setup.ball_velocity[0], setup.ball_velocity[1]
+        );
+        self.monitor().send(&launch)?;
+        let t0 = self.now();
+        let start_truth: Vec<(bool, u32, [f64; 2])> = [true, false]
+            .into_iter()
+            .flat_map(|ours| self.truth(ours).into_iter().map(move |(u, p)| (ours, u, p)))
+            .collect();
+        let mut judge = Judge::new(&scenario.success);
+        let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
+        let mut last_progress = (t0, Instant::now());
+        let (verdict, ended) = loop {
+            std::thread::sleep(Duration::from_millis(5));
+            let now = self.now();
+            if now > last_progress.0 {
+                last_progress = (now, Instant::now());
+            } else if last_progress.1.elapsed() > STALL {
+                return Err(RunError::Setup(format!(
+                    "the server stalled at {now:.2} s of simulated time"
+                )));
+            }
+            let t = now - t0;
+            let s = self.monitor().snapshot();
+            let o = Observation {
+                t,
+                ball: s.ball,
+                ours: self.truth(true),
+                theirs: self.truth(false),
+                goals_for: s.score_left.saturating_sub(start.score_left),
+                goals_against: s.score_right.saturating_sub(start.score_right),
+            };
+            measure.observe(t, s.ball);
+            judge.observe(&o);
+            let v = judge.verdict();
+            if v.decided() {
+                let end = describe_end(&v);
+                break (v, end);
+            }
+            // The launch takes effect after the next step; a mode change after that is play
+            // stopping (goal, ball out of play, free kick).
+            if t > 0.1 && s.play_mode != "PlayOn" {
+                let why = format!("play stopped ({})", s.play_mode);
+                break (judge.finish(t, &why), why);
+            }
+            if t >= scenario.time_limit_s {
+                let why = "time ran out".to_string();
+                break (judge.finish(scenario.time_limit_s, &why), why);
+            }
+        };
+        let s = self.monitor().snapshot();
+        let robots = start_truth
+            .iter()
+            .map(|&(ours, unum, from)| {
+                let to = self
+                    .truth(ours)
+                    .into_iter()
+                    .find(|(u, _)| *u == unum)
+                    .map_or(from, |(_, p)| p);
+                RobotTravel {
+                    ours,
+                    unum,
+                    from,
+                    to,
+                }
+            })
+            .collect();
+        let (success, time_s, why) = match verdict {
+            Verdict::Succeeded { t } => (true, Some(t), None),
+            Verdict::Failed { why, .. } => (false, None, Some(why)),
+            _ => (false, None, Some("undecided".into())),
+        };
+        Ok(RunOutcome {
+            index: setup.index,
+            success,
+            time_s,
+            why,
+            ended,
+            setup: setup.clone(),
+            launch: measure.result(),
+            goals_for: s.score_left.saturating_sub(start.score_left),
+            goals_against: s.score_right.saturating_sub(start.score_right),
+            closest_m: judge.closest.map(|(g, _)| g),
+            ball_travel_m: measure.max_travel,
+            goal_line_y: measure.goal_line_y,
+            robots,
+        })
+    }
+
+    /// Stop the agents and the server.
+    pub fn stop(mut self) {
+        self.shutdown.store(true, Ordering::Relaxed);
+        for team in self.teams.drain(..) {
+            team.join();
+        }
+        self.server.stop();
+    }
+}
+
+fn describe_end(v: &Verdict) -> String {
+    match v {
+        Verdict::Succeeded { .. } => "condition met".into(),
+        Verdict::Failed { .. } => "condition broken".into(),
+        _ => String::new(),
+    }
+}
+
+fn move_command(side: &str, p: &Placement) -> String {
+    format!(
+        "(agent (unum {}) (team {side}) (move {} {} {PLACE_TORSO_Z_M} {}))",
+        p.unum, p.pose[0], p.pose[1], p.pose[2]
+    )
+}
+
+/// The ball's measured launch (ground truth) and where it went.
+struct LaunchTracker {
+    from: [f64; 2],
+    goal_line_x: f64,
+    /// Ball position at the first sample after the launch, and its time.
+    first: Option<(f64, [f64; 2])>,
+    window: Option<(f64, [f64; 2])>,
+    max_travel: f64,
+    goal_line_y: Option<f64>,
+    last: Option<[f64; 2]>,
+}
+
+impl LaunchTracker {
+    fn new(from: [f64; 2], goal_line_x: f64) -> Self {
+        Self {
+            from,
+            goal_line_x,
+            first: None,
+            window: None,
+            max_travel: 0.0,
+            goal_line_y: None,
+            last: None,
+        }
+    }
+
+    fn observe(&mut self, t: f64, ball: Option<[f64; 3]>) {
+        let Some(b) = ball.map(|b| [b[0], b[1]]) else {
+            return;
+        };
+        let travel = (b[0] - self.from[0]).hypot(b[1] - self.from[1]);
+        self.max_travel = self.max_travel.max(travel);
+        // The launch starts from the placement; the first sample that moved dates it.
+        if self.first.is_none() && travel > 0.02 {
+            self.first = Some((t, b));
+        }
+        if let Some((t1, _)) = self.first {
+            if t - t1 <= LAUNCH_WINDOW_S {
+                self.window = Some((t, b));
+            }
+        }
+        // Where the ball first crossed a goal line: interpolated.
+        if let (Some(last), None) = (self.last, self.goal_line_y) {
+            for line in [-self.goal_line_x, self.goal_line_x] {
+                if (last[0] - line).signum() != (b[0] - line).signum()
+                    && (b[0] - last[0]).abs() > 1e-9
+                {
+                    let w = (line - last[0]) / (b[0] - last[0]);
+                    self.goal_line_y = Some(last[1] + w * (b[1] - last[1]));
+                }
+            }
+        }
+        self.last = Some(b);
+    }
+
+    fn result(&self) -> Option<LaunchMeasure> {
+        let (t1, p1) = self.first?;
+        let (t2, p2) = self.window?;
+        let dt = t2 - t1;
+        let (dx, dy) = (p2[0] - p1[0], p2[1] - p1[1]);
+        Some(LaunchMeasure {
+            direction_deg: dy.atan2(dx).to_degrees(),
+            mean_speed_m_s: if dt > 0.0 { dx.hypot(dy) / dt } else { 0.0 },
+        })
+    }
+}

@@ -1,0 +1,68 @@
+//! `libero scenario FILE`: a situation from a scenario file, run N times on a real server.
+
+use super::behavior::Format;
+use super::setup::{load_robot, DataArgs};
+use super::CliResult;
+use clap::Args;
+use libero_scenario::{load_file, run_series, Report, RunData, Summary};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Args)]
+pub struct ScenarioArgs {
+    /// The scenario file (`scenarios/*.ron`).
+    pub file: PathBuf,
+    /// Runs, each drawn from the file's ranges.
+    #[arg(long, default_value_t = 1)]
+    pub runs: usize,
+    /// Seed of the draws: the same seed gives the same situations.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// `json` prints one document with the figures and every run.
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+    /// Behavior, strategy and skill files of the Libero robots (watched: edits apply to the
+    /// running scenario unless `--no-watch`).
+    #[command(flatten)]
+    pub data: DataArgs,
+}
+
+pub fn run(args: ScenarioArgs) -> CliResult {
+    let mut report = Report::default();
+    let scenario = load_file(&args.file, &mut report);
+    report.sort();
+    if !report.diagnostics.is_empty() {
+        eprint!("{}", report.render_text());
+    }
+    let Some(scenario) = scenario else {
+        return Ok(ExitCode::FAILURE);
+    };
+    if args.runs == 0 {
+        return Err("--runs must be at least 1".into());
+    }
+    let model = load_robot("T1", None)?;
+    let data = RunData {
+        library: args.data.source()?,
+        skills: args.data.skills(&model)?,
+    };
+    eprintln!(
+        "scenario {}: {} run(s), seed {}, on a fresh fast-mode rcssservermj…",
+        scenario.name, args.runs, args.seed
+    );
+    let (summary, error) = run_series(&scenario, &args.file, &data, args.runs, args.seed, |r| {
+        eprintln!("{}", Summary::run_line(r));
+    });
+    match args.format {
+        Format::Text => print!("{}", summary.render_text()),
+        Format::Json => println!("{}", summary.render_json()),
+    }
+    match error {
+        Some(e) => Err(format!(
+            "the series stopped after {} of {} runs: {e}",
+            summary.runs.len(),
+            args.runs
+        )
+        .into()),
+        None => Ok(ExitCode::SUCCESS),
+    }
+}
