@@ -370,15 +370,28 @@ fn goalkeeper_file_edits_move_where_the_keeper_stands() {
     let far = strategy(&edited).defense_point(ball, &field);
     assert!(far.distance(near) > 1.0, "{near:?} -> {far:?}");
     let before = distance_to(far);
+    let generation = || match &source {
+        LibrarySource::Live(live) => live.generation(),
+        LibrarySource::Fixed(_) => 0,
+    };
+    let old_generation = generation();
     save(&keeper_file, &edited);
     let written = Instant::now();
-    let moving = wait_until(Duration::from_secs(1), || distance_to(far) < before - 0.1);
+    // The decision changes at the first cycle after the reload ...
+    let reloaded = wait_until(Duration::from_secs(1), || generation() > old_generation);
+    assert!(reloaded.is_some(), "the edit was not live within a second");
+    // ... and the torso follows once the walk has started from standing (1.2-1.5 s measured:
+    // the gait's first steps, see NOTES.md).
+    let moving = wait_until(Duration::from_secs(2), || distance_to(far) < before - 0.03);
     assert!(
         moving.is_some(),
-        "within a second of the write the keeper did not move towards the new point {far:?}: {:?}",
+        "within 2 s of the write the keeper did not move towards the new point {far:?}: {:?}",
         stats.truth_position()
     );
-    eprintln!("keeper moving towards the new point {:?} after the write", written.elapsed());
+    eprintln!(
+        "edit live {reloaded:?}, keeper moving towards the new point {:?} after the write",
+        written.elapsed()
+    );
     let arrived = wait_until(Duration::from_secs(20), || distance_to(far) < 0.3);
     assert!(
         arrived.is_some(),
@@ -387,13 +400,21 @@ fn goalkeeper_file_edits_move_where_the_keeper_stands() {
     );
 
     // A broken edit keeps the running point.
-    save(&keeper_file, &edited.replace("line: \"post_bisector\"", "line: \"nowhere\""));
+    save(
+        &keeper_file,
+        &edited.replace("line: \"post_bisector\"", "line: \"nowhere\""),
+    );
     let rejected = wait_until(Duration::from_secs(3), || {
-        events(&source).iter().any(|e| matches!(e, ReloadEvent::Rejected { .. }))
+        events(&source)
+            .iter()
+            .any(|e| matches!(e, ReloadEvent::Rejected { .. }))
     });
     assert!(rejected.is_some(), "the broken edit was not reported");
     std::thread::sleep(Duration::from_secs(2));
-    assert!(distance_to(far) < 0.4, "the keeper left its point after a broken edit");
+    assert!(
+        distance_to(far) < 0.4,
+        "the keeper left its point after a broken edit"
+    );
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     team.join();
 }

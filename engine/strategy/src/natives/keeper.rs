@@ -43,25 +43,14 @@ fn shot_on_goal(host: &AgentHost, _: &Ports) -> bool {
 fn defend_goal_ports() -> NodeSpec {
     NodeSpec::action(
         "DefendGoal",
-        "Walks to the defense point and faces the ball, the head on the ball while it is known; runs until halted.",
-    )
-    .param(
-        ParamSpec::new("tolerance", ValueType::Float)
-            .unit("m")
-            .range(0.05, 2.0)
-            .default(Value::Float(0.15))
-            .doc("close enough to the point to stand still"),
+        "Walks to the defense point (the walk stops there by itself) facing the ball, the head on the ball while it is known; runs until halted.",
     )
 }
 
-fn defend_goal(host: &mut AgentHost, ports: &Ports) -> Status {
+fn defend_goal(host: &mut AgentHost, _: &Ports) -> Status {
     let point = host.defense_point();
     let ball = host.ball();
-    if host.me().distance(point) > ports.float("tolerance") {
-        host.walk_to(point, Some(ball), f64::INFINITY, 0.0);
-    } else {
-        host.intent.body = BodyIntent::Stand;
-    }
+    host.walk_to(point, Some(ball), f64::INFINITY, 0.0);
     if host.world.ball.age(host.world.time) < 3.0 {
         host.look_at_ball();
     } else {
