@@ -1,5 +1,7 @@
 //! What the decision layer asks the skills for, each cycle.
 
+pub use crate::save::DiveSide;
+
 /// The body's task this cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum BodyIntent {
@@ -33,6 +35,12 @@ pub enum BodyIntent {
     },
     /// Stand up from lying. Also done automatically whenever the fall detector reports a fall.
     GetUp,
+    /// Goalkeeper save: dive to a side or block straight ahead. Starts in the cycle it is
+    /// first asked for (when upright and not getting up) and plays to its end whatever is
+    /// asked meanwhile (`SkillStatus::save`: `Diving`, then `Done`); after a dive the robot
+    /// lies and the get-up follows on its own. Holding the request after `Done` does not dive
+    /// again: a new save needs a cycle without one first.
+    Dive { side: DiveSide },
 }
 
 /// The head's task this cycle.

@@ -9,12 +9,14 @@ pub mod intent;
 pub mod kick;
 pub mod params;
 pub mod pose;
+pub mod save;
 pub mod walk;
 
 pub use intent::{BodyIntent, HeadIntent, Intent};
 pub use kick::{KickParams, KickState};
 pub use params::{ParamsError, SkillParams};
 pub use pose::{JointTarget, JointTargets};
+pub use save::{DiveSide, SaveParams, SaveState};
 pub use walk::{Velocity, Walk, WalkParams};
 
 use libero_model::RobotModel;
@@ -27,6 +29,8 @@ pub enum ActiveSkill {
     Walk,
     GetUp,
     Kick,
+    /// A goalkeeper save (dive or block), or lying still after a dive until the get-up starts.
+    Save,
 }
 
 /// What the skill layer is doing, for the decision layer.
@@ -34,6 +38,7 @@ pub enum ActiveSkill {
 pub struct SkillStatus {
     pub active: ActiveSkill,
     pub kick: KickState,
+    pub save: SaveState,
 }
 
 impl Default for SkillStatus {
@@ -41,6 +46,7 @@ impl Default for SkillStatus {
         Self {
             active: ActiveSkill::Stand,
             kick: KickState::Idle,
+            save: SaveState::Idle,
         }
     }
 }
@@ -60,6 +66,10 @@ pub struct Skills {
     walk: Walk,
     kick: kick::Kick,
     get_up: getup::GetUp,
+    save: save::Save,
+    /// The pose a dive ended in, held while the robot lies until the get-up starts (the
+    /// stand pose would fold the stretched body up on the ground).
+    after_dive: Option<(DiveSide, Vec<f64>)>,
     active: ActiveSkill,
     blend: Option<Blend>,
     /// The pose sent last cycle [deg per joint].
@@ -77,6 +87,8 @@ impl Skills {
             walk: Walk::new(model)?,
             kick: kick::Kick::new(model)?,
             get_up: getup::GetUp::new(),
+            save: save::Save::new(),
+            after_dive: None,
             params,
             last_pose: stand.clone(),
             pose: stand.clone(),
@@ -132,7 +144,13 @@ impl Skills {
         SkillStatus {
             active: self.active,
             kick: self.kick.state(),
+            save: self.save.state(),
         }
+    }
+
+    /// Where the save stands (`Idle` when none is asked for).
+    pub fn save_state(&self) -> SaveState {
+        self.save.state()
     }
 
     /// Joint targets realising `intent` this cycle.
@@ -144,8 +162,31 @@ impl Skills {
         out: &mut JointTargets,
     ) {
         self.pose.copy_from_slice(&self.stand);
+        // A save goes first: it starts in the cycle it is asked for and nothing interrupts it.
+        let save_request = match intent.body {
+            BodyIntent::Dive { side } => Some(side),
+            _ => None,
+        };
+        let was_saving = self.save.is_running();
+        let saving = self.save.update(
+            world,
+            save_request,
+            !self.get_up.is_running() && world.body.posture == libero_world::Posture::Upright,
+            &self.params.save,
+            model,
+            &mut self.pose,
+        );
+        if let (true, false, SaveState::Done(side)) = (was_saving, saving, self.save.state()) {
+            if side != DiveSide::Centre {
+                self.after_dive = Some((side, self.pose.clone()));
+            }
+        }
         let walk_params = &self.params.walk;
         let kick = match intent.body {
+            _ if saving => {
+                self.kick.reset();
+                None
+            }
             BodyIntent::Kick {
                 ball,
                 direction_deg,
@@ -173,7 +214,7 @@ impl Skills {
             }
         };
         let request = match intent.body {
-            BodyIntent::Stand | BodyIntent::GetUp => None,
+            BodyIntent::Stand | BodyIntent::GetUp | BodyIntent::Dive { .. } => None,
             BodyIntent::Kick { .. } => match kick {
                 Some(kick::KickOutput::Walk(v)) => v,
                 _ => None,
@@ -194,17 +235,32 @@ impl Skills {
             } => walk::walk_to::velocity_towards(target, heading_deg, walk_params)
                 .map(|v| v.capped(max_speed_m_s)),
         };
-        let getting_up = self.get_up.update(
-            world,
-            intent.body == BodyIntent::GetUp,
-            &self.params.get_up,
-            model,
-            &mut self.pose,
-        );
-        let active = if getting_up {
+        let getting_up = !saving
+            && self.get_up.update(
+                world,
+                intent.body == BodyIntent::GetUp,
+                &self.params.get_up,
+                model,
+                &mut self.pose,
+            );
+        // Held until the get-up starts, or the robot turns out not to be lying after all.
+        if getting_up
+            || getup::Condition::UprightWithin(30.0)
+                .holds(&getup::Sensed::from_body(&world.body))
+        {
+            self.after_dive = None;
+        }
+        let active = if saving {
+            self.walk.reset();
+            ActiveSkill::Save
+        } else if getting_up {
             self.walk.reset();
             self.kick.reset();
             ActiveSkill::GetUp
+        } else if let Some((_, held)) = &self.after_dive {
+            self.walk.reset();
+            self.pose.copy_from_slice(held);
+            ActiveSkill::Save
         } else if kick == Some(kick::KickOutput::Motion) {
             self.kick
                 .write_pose(world, &self.params.kick, &mut self.pose);
@@ -255,8 +311,9 @@ impl Skills {
                 duration_s: self.params.walk.settle_s,
             });
         }
-        if active != ActiveSkill::GetUp {
-            // The get-up motion starts from the measured angles and must not be softened.
+        if !matches!(active, ActiveSkill::GetUp | ActiveSkill::Save) {
+            // The get-up and save motions start from the measured angles and must not be
+            // softened.
             self.apply_blend(world.time);
         } else {
             self.blend = None;
@@ -265,6 +322,16 @@ impl Skills {
         if active == ActiveSkill::GetUp {
             for (joint, g) in &self.params.get_up.gains {
                 out.set_gains(model, joint, g.kp, g.kd);
+            }
+        }
+        if active == ActiveSkill::Save {
+            let side = self
+                .save
+                .side()
+                .or(self.after_dive.as_ref().map(|(side, _)| *side))
+                .unwrap_or(DiveSide::Centre);
+            for (joint, g) in self.params.save.gains_for(side) {
+                out.set_gains(model, &joint, g.kp, g.kd);
             }
         }
         if matches!(self.active, ActiveSkill::Walk | ActiveSkill::Kick) {
