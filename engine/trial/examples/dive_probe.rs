@@ -43,11 +43,11 @@ fn main() {
     let Some(n) = series else {
         let run = save_bench::save(&mut trial, &params, side, save_bench::KEEPER_START, until)
             .unwrap();
-        println!("   t     lo     hi   torso z  tilt  save");
+        println!("   t     lo     hi   torso z  tilt   roll  pitch  save");
         for c in run.coverage.iter().step_by(every.max(1)) {
             println!(
-                "{:5.2} {:6.2} {:6.2}   {:5.3}  {:5.1}  {:?}",
-                c.t, c.lo, c.hi, c.torso_z, c.tilt_deg, c.save
+                "{:5.2} {:6.2} {:6.2}   {:5.3}  {:5.1} {:6.1} {:6.1}  {:?}",
+                c.t, c.lo, c.hi, c.torso_z, c.tilt_deg, c.roll_deg, c.pitch_deg, c.save
             );
         }
         println!("{}", line(&run));

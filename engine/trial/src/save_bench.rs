@@ -13,7 +13,7 @@ use crate::getup_bench;
 use libero_model::kinematics::{BodyPoses, Kinematics};
 use libero_model::RobotModel;
 use libero_skills::{BodyIntent, DiveSide, Intent, SaveState, SkillParams};
-use libero_world::{Posture, World};
+use libero_world::World;
 use nalgebra::{Isometry3, Point3, Quaternion, Translation3, UnitQuaternion, Vector3};
 use std::sync::{Arc, Mutex};
 
@@ -38,6 +38,9 @@ pub struct Coverage {
     /// Torso height [m] and tilt from vertical [deg] (ground truth).
     pub torso_z: f64,
     pub tilt_deg: f64,
+    /// Torso roll [deg], + right side down (ground truth), and pitch, + nose down.
+    pub roll_deg: f64,
+    pub pitch_deg: f64,
     /// What the skills reported.
     pub save: SaveState,
 }
@@ -221,16 +224,18 @@ pub fn save(
             let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
                 (lo.min(y), hi.max(y))
             });
-            let tilt = w
-                .truth
-                .torso_orientation
-                .map(|[_, x, y, _]| {
-                    (1.0 - 2.0 * (x * x + y * y))
-                        .clamp(-1.0, 1.0)
-                        .acos()
-                        .to_degrees()
-                })
-                .unwrap_or(f64::NAN);
+            let [qw, qx, qy, qz] = w.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
+            let tilt = (1.0 - 2.0 * (qx * qx + qy * qy))
+                .clamp(-1.0, 1.0)
+                .acos()
+                .to_degrees();
+            let roll = -(2.0 * (qw * qx + qy * qz))
+                .atan2(1.0 - 2.0 * (qx * qx + qy * qy))
+                .to_degrees();
+            let pitch = (2.0 * (qw * qy - qz * qx))
+                .clamp(-1.0, 1.0)
+                .asin()
+                .to_degrees();
             if let Ok(mut c) = cov.lock() {
                 c.push(Coverage {
                     t,
@@ -238,6 +243,8 @@ pub fn save(
                     hi: hi + LIMB_RADIUS_M,
                     torso_z: torso.z,
                     tilt_deg: tilt,
+                    roll_deg: roll,
+                    pitch_deg: pitch,
                     save: state,
                 });
             }
@@ -245,12 +252,12 @@ pub fn save(
         if t >= until_s {
             return None;
         }
+        // After the save: stand; the fall detector starts the get-up once the body has lain
+        // still for `get_up.rest_s`.
         let body = if !done {
             BodyIntent::Dive { side }
-        } else if w.body.posture == Posture::Upright {
-            BodyIntent::Stand
         } else {
-            BodyIntent::GetUp
+            BodyIntent::Stand
         };
         Some(Intent {
             body,
