@@ -43,11 +43,11 @@ fn main() {
     let Some(n) = series else {
         let run = save_bench::save(&mut trial, &params, side, save_bench::KEEPER_START, until)
             .unwrap();
-        println!("   t     lo     hi   torso z  tilt   roll  pitch  save");
+        println!("   t     lo     hi  low lo low hi  torso z  tilt   roll  pitch  save");
         for c in run.coverage.iter().step_by(every.max(1)) {
             println!(
-                "{:5.2} {:6.2} {:6.2}   {:5.3}  {:5.1} {:6.1} {:6.1}  {:?}",
-                c.t, c.lo, c.hi, c.torso_z, c.tilt_deg, c.roll_deg, c.pitch_deg, c.save
+                "{:5.2} {:6.2} {:6.2} {:6.2} {:6.2}   {:5.3}  {:5.1} {:6.1} {:6.1}  {:?}",
+                c.t, c.lo, c.hi, c.low_lo, c.low_hi, c.torso_z, c.tilt_deg, c.roll_deg, c.pitch_deg, c.save
             );
         }
         println!("{}", line(&run));
@@ -87,14 +87,16 @@ fn main() {
         span.iter().cloned().fold(0.0, f64::max),
     );
     // Mean coverage against time.
-    println!("  t   mean lo  mean hi");
+    println!("  t   mean lo  mean hi  low lo  low hi");
     for step in 0..=20 {
         let t = step as f64 * 0.1;
         let at: Vec<_> = runs.iter().filter_map(|r| r.at(t)).collect();
         println!(
-            "{t:4.1} {:7.2} {:7.2}",
+            "{t:4.1} {:7.2} {:7.2} {:7.2} {:7.2}",
             mean(&at.iter().map(|c| c.lo).collect::<Vec<_>>()),
-            mean(&at.iter().map(|c| c.hi).collect::<Vec<_>>())
+            mean(&at.iter().map(|c| c.hi).collect::<Vec<_>>()),
+            mean(&at.iter().map(|c| c.low_lo).collect::<Vec<_>>()),
+            mean(&at.iter().map(|c| c.low_hi).collect::<Vec<_>>())
         );
     }
 }

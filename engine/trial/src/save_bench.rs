@@ -24,6 +24,8 @@ pub const KEEPER_START: [f64; 3] = [-26.0, 0.0, 0.0];
 /// Forearm from the elbow-yaw joint to the hand's end [m] (robot.xml: the hand's collision
 /// geometry ends about this far along the forearm).
 pub const FOREARM_M: f64 = 0.2;
+/// Body points below this height count for the low coverage [m].
+pub const LOW_M: f64 = 0.3;
 /// Head top above the head-pitch joint [m].
 pub const HEAD_TOP_M: f64 = 0.15;
 
@@ -35,6 +37,10 @@ pub struct Coverage {
     /// Lateral extent [m], + to the robot's start left: from `lo` to `hi`.
     pub lo: f64,
     pub hi: f64,
+    /// The same for the body points below [`LOW_M`] (what stops a ball along the ground);
+    /// NaN when there are none.
+    pub low_lo: f64,
+    pub low_hi: f64,
     /// Torso height [m] and tilt from vertical [deg] (ground truth).
     pub torso_z: f64,
     pub tilt_deg: f64,
@@ -220,10 +226,20 @@ pub fn save(
         done |= matches!(state, SaveState::Done(_));
         let points = tracer_state.world_points(w);
         if let Some(torso) = points.first() {
-            let ys = points.iter().map(|p| (p.coords - origin).dot(&lateral));
-            let (lo, hi) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
-                (lo.min(y), hi.max(y))
-            });
+            let span = |low_only: bool| {
+                points
+                    .iter()
+                    .filter(|p| !low_only || p.z < LOW_M)
+                    .map(|p| (p.coords - origin).dot(&lateral))
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), y| {
+                        (lo.min(y), hi.max(y))
+                    })
+            };
+            let (lo, hi) = span(false);
+            let (low_lo, low_hi) = match span(true) {
+                (lo, hi) if lo <= hi => (lo - LIMB_RADIUS_M, hi + LIMB_RADIUS_M),
+                _ => (f64::NAN, f64::NAN),
+            };
             let [qw, qx, qy, qz] = w.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
             let tilt = (1.0 - 2.0 * (qx * qx + qy * qy))
                 .clamp(-1.0, 1.0)
@@ -241,6 +257,8 @@ pub fn save(
                     t,
                     lo: lo - LIMB_RADIUS_M,
                     hi: hi + LIMB_RADIUS_M,
+                    low_lo,
+                    low_hi,
                     torso_z: torso.z,
                     tilt_deg: tilt,
                     roll_deg: roll,
