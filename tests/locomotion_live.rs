@@ -215,6 +215,10 @@ fn blocks_half_a_metre_either_side_without_falling() {
         run.max_reach(),
         run.fell
     );
-    assert!(run.covers_at(0.5).is_some_and(|t| t <= 0.3), "{:?}", run.covers_at(0.5));
+    assert!(
+        run.covers_at(0.5).is_some_and(|t| t <= 0.3),
+        "{:?}",
+        run.covers_at(0.5)
+    );
     assert!(!run.fell, "the block fell");
 }

@@ -245,8 +245,7 @@ impl Skills {
             );
         // Held until the get-up starts, or the robot turns out not to be lying after all.
         if getting_up
-            || getup::Condition::UprightWithin(30.0)
-                .holds(&getup::Sensed::from_body(&world.body))
+            || getup::Condition::UprightWithin(30.0).holds(&getup::Sensed::from_body(&world.body))
         {
             self.after_dive = None;
         }

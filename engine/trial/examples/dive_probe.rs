@@ -41,13 +41,22 @@ fn main() {
         )
     };
     let Some(n) = series else {
-        let run = save_bench::save(&mut trial, &params, side, save_bench::KEEPER_START, until)
-            .unwrap();
+        let run =
+            save_bench::save(&mut trial, &params, side, save_bench::KEEPER_START, until).unwrap();
         println!("   t     lo     hi  low lo low hi  torso z  tilt   roll  pitch  save");
         for c in run.coverage.iter().step_by(every.max(1)) {
             println!(
                 "{:5.2} {:6.2} {:6.2} {:6.2} {:6.2}   {:5.3}  {:5.1} {:6.1} {:6.1}  {:?}",
-                c.t, c.lo, c.hi, c.low_lo, c.low_hi, c.torso_z, c.tilt_deg, c.roll_deg, c.pitch_deg, c.save
+                c.t,
+                c.lo,
+                c.hi,
+                c.low_lo,
+                c.low_hi,
+                c.torso_z,
+                c.tilt_deg,
+                c.roll_deg,
+                c.pitch_deg,
+                c.save
             );
         }
         println!("{}", line(&run));
@@ -70,7 +79,10 @@ fn main() {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
     let reach: Vec<f64> = runs.iter().map(SaveRun::max_reach).collect();
     let c10: Vec<f64> = runs.iter().filter_map(|r| r.covers_at(1.0)).collect();
-    let span: Vec<f64> = runs.iter().filter_map(|r| r.covers_span_at(0.3, 1.3)).collect();
+    let span: Vec<f64> = runs
+        .iter()
+        .filter_map(|r| r.covers_span_at(0.3, 1.3))
+        .collect();
     println!(
         "{side:?}: {n} tries, stood {} (mean {:.2} s, worst {:.2} s), fell {}, max reach mean {:.2} min {:.2}, cover 1.0 m in {} (mean {:.2} s, worst {:.2} s), span 0.3-1.3 in {} (mean {:.2}, worst {:.2})",
         stood.len(),

@@ -21,12 +21,14 @@ use std::sync::{Arc, Mutex};
 pub const LIMB_RADIUS_M: f64 = 0.05;
 /// Where the goalkeeper stands: on its goal line, facing the field.
 pub const KEEPER_START: [f64; 3] = [-26.0, 0.0, 0.0];
-/// Forearm from the elbow-yaw joint to the hand's end [m] (robot.xml: the hand's collision
-/// geometry ends about this far along the forearm).
+/// Forearm from the elbow-yaw joint to the hand point [m]: with [`LIMB_RADIUS_M`] 0.25 m, where
+/// robot.xml's hand capsule ends (centre 0.13 m along the forearm, half-length 0.0875, radius
+/// 0.03: 0.2475 m).
 pub const FOREARM_M: f64 = 0.2;
 /// Body points below this height count for the low coverage [m].
 pub const LOW_M: f64 = 0.3;
-/// Head top above the head-pitch joint [m].
+/// Head point above the head-pitch joint [m]: with [`LIMB_RADIUS_M`] 0.20 m (robot.xml: head
+/// sphere of radius 0.08 centred 0.11 m above it, top at 0.19 m).
 pub const HEAD_TOP_M: f64 = 0.15;
 
 /// The lateral span of the body at one cycle.
@@ -94,8 +96,7 @@ impl BodyPoints {
 
     /// The points in the world frame (torso origin first); empty without ground truth.
     pub fn world_points(&mut self, world: &World) -> Vec<Point3<f64>> {
-        let (Some(p), Some(q)) = (world.truth.torso_position, world.truth.torso_orientation)
-        else {
+        let (Some(p), Some(q)) = (world.truth.torso_position, world.truth.torso_orientation) else {
             return Vec::new();
         };
         if self

@@ -186,7 +186,12 @@ impl GetUpParams {
             .iter()
             .map(|(n, m)| (format!("recover.{n}"), m));
         for (name, motion) in named.into_iter().chain(recover) {
-            validate_frames(&format!("get_up.{name}"), motion, model, Some(&self.recover))?;
+            validate_frames(
+                &format!("get_up.{name}"),
+                motion,
+                model,
+                Some(&self.recover),
+            )?;
         }
         for (joint, g) in &self.gains {
             model.joint_id(joint).ok_or_else(|| {

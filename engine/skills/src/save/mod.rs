@@ -209,10 +209,7 @@ impl Save {
                     // One cycle in already: the targets sent this cycle move.
                     self.running = Some((
                         side,
-                        Playhead::start(
-                            world.body.joint_angles.clone(),
-                            world.time - FIRST_STEP_S,
-                        ),
+                        Playhead::start(world.body.joint_angles.clone(), world.time - FIRST_STEP_S),
                     ));
                     self.state = SaveState::Diving(side);
                 }

@@ -22,12 +22,25 @@ fn t1() -> RobotModel {
 fn two_frame_params() -> SaveParams {
     SaveParams {
         left: vec![
-            frame(0.1, &[("left_hip_roll", 30.0), ("waist", 10.0), ("left_knee", 40.0)]),
+            frame(
+                0.1,
+                &[
+                    ("left_hip_roll", 30.0),
+                    ("waist", 10.0),
+                    ("left_knee", 40.0),
+                ],
+            ),
             frame(0.1, &[("left_shoulder_roll", -20.0)]),
         ],
         right: None,
-        block: vec![frame(0.2, &[("left_hip_roll", 20.0), ("right_hip_roll", -20.0)])],
-        gains: BTreeMap::from([("left_shoulder_roll".to_string(), Gains { kp: 300.0, kd: 2.0 })]),
+        block: vec![frame(
+            0.2,
+            &[("left_hip_roll", 20.0), ("right_hip_roll", -20.0)],
+        )],
+        gains: BTreeMap::from([(
+            "left_shoulder_roll".to_string(),
+            Gains { kp: 300.0, kd: 2.0 },
+        )]),
     }
 }
 
@@ -59,7 +72,13 @@ fn the_right_dive_mirrors_the_left_one() {
     // The stand pose is symmetric: its mirror image is itself.
     let model = t1();
     let stand = crate::SkillParams::builtin(&model).unwrap().stand;
-    let standing = frame(0.1, &stand.iter().map(|(j, a)| (j.as_str(), *a)).collect::<Vec<_>>());
+    let standing = frame(
+        0.1,
+        &stand
+            .iter()
+            .map(|(j, a)| (j.as_str(), *a))
+            .collect::<Vec<_>>(),
+    );
     assert_eq!(mirror_frame(&standing), standing);
 }
 
@@ -86,7 +105,10 @@ fn validation_names_the_bad_frame_also_in_the_mirrored_dive() {
     let mut p = two_frame_params();
     p.right = Some(vec![]);
     let err = p.validate(&model).unwrap_err();
-    assert!(err.contains("save.right: the motion has no key frames"), "{err}");
+    assert!(
+        err.contains("save.right: the motion has no key frames"),
+        "{err}"
+    );
 
     // A save has no recovery motions to switch to.
     let mut p = two_frame_params();
@@ -101,7 +123,8 @@ fn validation_names_the_bad_frame_also_in_the_mirrored_dive() {
     assert!(err.contains("save.left[0].until"), "{err}");
 
     let mut p = two_frame_params();
-    p.gains.insert("left_knee".into(), Gains { kp: -1.0, kd: 0.0 });
+    p.gains
+        .insert("left_knee".into(), Gains { kp: -1.0, kd: 0.0 });
     let err = p.validate(&model).unwrap_err();
     assert!(err.contains("save.gains.left_knee.kp"), "{err}");
 
