@@ -4,7 +4,8 @@
 //! lateral coverage of the goal line (ground truth + FK of the measured angles) against time,
 //! when it first covers 0.5 / 1.0 / 1.5 m, the furthest reach, the time to 30° of tilt and when
 //! the robot stood again. `SERIES=n`: n tries, one line each and a summary; `EVERY=k`: table
-//! rows every k cycles (default 5); `UNTIL=s`: seconds to record after the request (default 9).
+//! rows every k cycles (default 5); `UNTIL=s`: seconds to record after the request (default 9);
+//! `WALK=vy [WALK_S=s]`: walk sideways at vy m/s for s seconds (default 2) before the request.
 use libero_skills::{DiveSide, SkillParams};
 use libero_trial::save_bench::{self, SaveRun};
 use libero_trial::Trial;
@@ -26,6 +27,17 @@ fn main() {
     let until = env("UNTIL").unwrap_or(9.0);
     let series = env("SERIES").map(|n| n as usize);
     let every = env("EVERY").unwrap_or(5.0) as usize;
+    // WALK=vy: walk sideways at vy m/s (+ left) for WALK_S s (default 2) before the request.
+    let lead_in = env("WALK").map(|vy| {
+        (
+            libero_skills::BodyIntent::Walk {
+                forward_m_s: 0.0,
+                sideways_m_s: vy,
+                turn_deg_s: 0.0,
+            },
+            env("WALK_S").unwrap_or(2.0),
+        )
+    });
     let line = |r: &SaveRun| {
         let f = |v: Option<f64>| v.map_or("  -  ".to_string(), |v| format!("{v:5.2}"));
         format!(
@@ -41,8 +53,15 @@ fn main() {
         )
     };
     let Some(n) = series else {
-        let run =
-            save_bench::save(&mut trial, &params, side, save_bench::KEEPER_START, until).unwrap();
+        let run = save_bench::save_after(
+            &mut trial,
+            &params,
+            side,
+            save_bench::KEEPER_START,
+            lead_in,
+            until,
+        )
+        .unwrap();
         println!("   t     lo     hi  low lo low hi  torso z  tilt   roll  pitch  save");
         for c in run.coverage.iter().step_by(every.max(1)) {
             println!(
@@ -71,7 +90,7 @@ fn main() {
             save_bench::KEEPER_START[1] + 0.1 * ((k * 1.7).sin()),
             save_bench::KEEPER_START[2] + 5.0 * ((k * 2.3).sin()),
         ];
-        let run = save_bench::save(&mut trial, &params, side, start, until).unwrap();
+        let run = save_bench::save_after(&mut trial, &params, side, start, lead_in, until).unwrap();
         println!("{i:2} {}", line(&run));
         runs.push(run);
     }

@@ -211,6 +211,21 @@ pub fn save(
     start: [f64; 3],
     until_s: f64,
 ) -> Result<SaveRun, TrialError> {
+    save_after(trial, params, side, start, None, until_s)
+}
+
+/// [`save`] after `lead_in`: that intent for that many seconds first (e.g. walking sideways),
+/// the save asked for straight out of it. Coverage is measured from where the torso is at the
+/// request, along the start heading's lateral axis; all times count from the request.
+pub fn save_after(
+    trial: &mut Trial,
+    params: &SkillParams,
+    side: DiveSide,
+    start: [f64; 3],
+    lead_in: Option<(BodyIntent, f64)>,
+    until_s: f64,
+) -> Result<SaveRun, TrialError> {
+    let (lead_intent, lead_s) = lead_in.unwrap_or((BodyIntent::Stand, 0.0));
     let status = trial.skill_status();
     let model = trial.model().clone();
     let coverage = Arc::new(Mutex::new(Vec::<Coverage>::new()));
@@ -219,10 +234,21 @@ pub fn save(
     let heading = start[2].to_radians();
     // Lateral: the start frame's y axis.
     let lateral = Vector3::new(-heading.sin(), heading.cos(), 0.0);
-    let origin = Vector3::new(start[0], start[1], 0.0);
+    let mut origin: Option<Vector3<f64>> = None;
     let mut tracer_state = tracer;
     let mut done = false;
     let script = move |w: &World, t: f64| {
+        if t < lead_s {
+            return Some(Intent {
+                body: lead_intent,
+                ..Intent::default()
+            });
+        }
+        let t = t - lead_s;
+        let origin = *origin.get_or_insert_with(|| match w.truth.torso_position {
+            Some([x, y, _]) => Vector3::new(x, y, 0.0),
+            None => Vector3::new(start[0], start[1], 0.0),
+        });
         let state = status.lock().map(|s| s.save).unwrap_or_default();
         done |= matches!(state, SaveState::Done(_));
         let points = tracer_state.world_points(w);
@@ -294,11 +320,24 @@ pub fn save(
     )?;
     let coverage = std::mem::take(&mut *coverage.lock().expect("coverage lock"));
     let tilt_30_s = coverage.iter().find(|c| c.tilt_deg >= 30.0).map(|c| c.t);
-    let fell = recording.fell();
-    let first_down = recording.first_fall_s();
+    // From the request on, with its times.
+    let from_request = Recording {
+        samples: recording
+            .samples
+            .iter()
+            .filter(|s| s.t >= lead_s)
+            .map(|s| crate::Sample {
+                t: s.t - lead_s,
+                ..*s
+            })
+            .collect(),
+        intents: Vec::new(),
+    };
+    let fell = from_request.fell();
+    let first_down = from_request.first_fall_s();
     let stood_at = first_down.and_then(|down| {
         let after = Recording {
-            samples: recording
+            samples: from_request
                 .samples
                 .iter()
                 .filter(|s| s.t >= down)
