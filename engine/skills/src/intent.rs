@@ -37,9 +37,11 @@ pub enum BodyIntent {
     GetUp,
     /// Goalkeeper save: dive to a side or block straight ahead. Starts in the cycle it is
     /// first asked for (when upright and not getting up) and plays to its end whatever is
-    /// asked meanwhile (`SkillStatus::save`: `Diving`, then `Done`); after a dive the robot
-    /// lies and the get-up follows on its own. Holding the request after `Done` does not dive
-    /// again: a new save needs a cycle without one first.
+    /// asked meanwhile (`SkillStatus::save`: `Diving`, then `Done`). After a dive the robot
+    /// lies; while the request is still held after `Done` it stays down in the dive's end pose
+    /// (covering the line while the ball may still come), and once the request is dropped the
+    /// fall detector starts the get-up. Holding the request after `Done` never dives again: a
+    /// new save needs a cycle without one first.
     Dive { side: DiveSide },
 }
 

@@ -167,7 +167,6 @@ impl Skills {
             BodyIntent::Dive { side } => Some(side),
             _ => None,
         };
-        let was_saving = self.save.is_running();
         let saving = self.save.update(
             world,
             save_request,
@@ -176,7 +175,9 @@ impl Skills {
             model,
             &mut self.pose,
         );
-        if let (true, false, SaveState::Done(side)) = (was_saving, saving, self.save.state()) {
+        // The save's last cycle (it wrote its end pose and is over).
+        let ended = saving && !self.save.is_running();
+        if let (true, SaveState::Done(side)) = (ended, self.save.state()) {
             if side != DiveSide::Centre {
                 self.after_dive = Some((side, self.pose.clone()));
             }
@@ -235,7 +236,14 @@ impl Skills {
             } => walk::walk_to::velocity_towards(target, heading_deg, walk_params)
                 .map(|v| v.capped(max_speed_m_s)),
         };
+        // A dive played out while the request is still held: stay down in its end pose, on
+        // the line, until the decision layer lets go (then the get-up starts after `rest_s`).
+        let held_down = !saving
+            && save_request.is_some()
+            && matches!(self.save.state(), SaveState::Done(_))
+            && self.after_dive.is_some();
         let getting_up = !saving
+            && !held_down
             && self.get_up.update(
                 world,
                 intent.body == BodyIntent::GetUp,

@@ -5,7 +5,8 @@
 //! when it first covers 0.5 / 1.0 / 1.5 m, the furthest reach, the time to 30° of tilt and when
 //! the robot stood again. `SERIES=n`: n tries, one line each and a summary; `EVERY=k`: table
 //! rows every k cycles (default 5); `UNTIL=s`: seconds to record after the request (default 9);
-//! `WALK=vy [WALK_S=s]`: walk sideways at vy m/s for s seconds (default 2) before the request.
+//! `WALK=vy [WALK_S=s]`: walk sideways at vy m/s for s seconds (default 2) before the request;
+//! `HOLD=s`: keep asking for the save until s seconds after the request.
 use libero_skills::{DiveSide, SkillParams};
 use libero_trial::save_bench::{self, SaveRun};
 use libero_trial::Trial;
@@ -25,6 +26,8 @@ fn main() {
         None => SkillParams::builtin(&model).unwrap(),
     };
     let until = env("UNTIL").unwrap_or(9.0);
+    // HOLD=s: keep asking for the save until s seconds after the request (stays down).
+    let hold = env("HOLD").unwrap_or(0.0);
     let series = env("SERIES").map(|n| n as usize);
     let every = env("EVERY").unwrap_or(5.0) as usize;
     // WALK=vy: walk sideways at vy m/s (+ left) for WALK_S s (default 2) before the request.
@@ -59,6 +62,7 @@ fn main() {
             side,
             save_bench::KEEPER_START,
             lead_in,
+            hold,
             until,
         )
         .unwrap();
@@ -90,7 +94,8 @@ fn main() {
             save_bench::KEEPER_START[1] + 0.1 * ((k * 1.7).sin()),
             save_bench::KEEPER_START[2] + 5.0 * ((k * 2.3).sin()),
         ];
-        let run = save_bench::save_after(&mut trial, &params, side, start, lead_in, until).unwrap();
+        let run =
+            save_bench::save_after(&mut trial, &params, side, start, lead_in, hold, until).unwrap();
         println!("{i:2} {}", line(&run));
         runs.push(run);
     }

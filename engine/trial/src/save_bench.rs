@@ -211,18 +211,21 @@ pub fn save(
     start: [f64; 3],
     until_s: f64,
 ) -> Result<SaveRun, TrialError> {
-    save_after(trial, params, side, start, None, until_s)
+    save_after(trial, params, side, start, None, 0.0, until_s)
 }
 
 /// [`save`] after `lead_in`: that intent for that many seconds first (e.g. walking sideways),
 /// the save asked for straight out of it. Coverage is measured from where the torso is at the
-/// request, along the start heading's lateral axis; all times count from the request.
+/// request, along the start heading's lateral axis; all times count from the request. The
+/// request is held until the save is done and at least `hold_s` after the request (after a
+/// dive the robot then stays down that long).
 pub fn save_after(
     trial: &mut Trial,
     params: &SkillParams,
     side: DiveSide,
     start: [f64; 3],
     lead_in: Option<(BodyIntent, f64)>,
+    hold_s: f64,
     until_s: f64,
 ) -> Result<SaveRun, TrialError> {
     let (lead_intent, lead_s) = lead_in.unwrap_or((BodyIntent::Stand, 0.0));
@@ -299,7 +302,7 @@ pub fn save_after(
         }
         // After the save: stand; the fall detector starts the get-up once the body has lain
         // still for `get_up.rest_s`.
-        let body = if !done {
+        let body = if !done || t < hold_s {
             BodyIntent::Dive { side }
         } else {
             BodyIntent::Stand

@@ -268,3 +268,50 @@ fn the_skills_dive_in_the_first_cycle_even_while_walking_and_report_it() {
     }
     assert_eq!(skills.status().save, SaveState::Done(DiveSide::Left));
 }
+
+#[test]
+fn after_a_dive_the_robot_stays_down_while_the_request_is_held_then_gets_up() {
+    use crate::{ActiveSkill, BodyIntent, Intent, JointTargets, SkillParams, Skills};
+    use libero_world::Posture;
+    let model = t1();
+    let mut params = SkillParams::builtin(&model).unwrap();
+    params.save = two_frame_params();
+    params.get_up.rest_s = 0.0;
+    let mut skills = Skills::new(&model, params).unwrap();
+    let mut world = World::new(&model, "t", 1);
+    let mut out = JointTargets::default();
+    let dive = Intent {
+        body: BodyIntent::Dive {
+            side: DiveSide::Left,
+        },
+        ..Intent::default()
+    };
+    let mut cycle = |world: &mut World, intent: &Intent| {
+        world.time += 0.02;
+        skills.act(&model, world, intent, &mut out);
+        (skills.active(), skills.status().save)
+    };
+    cycle(&mut world, &dive);
+    // The body goes down during the dive (left side down).
+    world.body.gravity = [0.0, 9.81, 0.0];
+    world.body.posture = Posture::FallenSide;
+    for _ in 0..15 {
+        cycle(&mut world, &dive);
+    }
+    // Done and held: down in the end pose, no get-up.
+    for _ in 0..20 {
+        assert_eq!(
+            cycle(&mut world, &dive),
+            (ActiveSkill::Save, SaveState::Done(DiveSide::Left))
+        );
+    }
+    // Let go: the get-up starts.
+    let stand = Intent::default();
+    let (active, state) = cycle(&mut world, &stand);
+    assert_eq!(state, SaveState::Idle);
+    let mut active = active;
+    for _ in 0..3 {
+        active = cycle(&mut world, &stand).0;
+    }
+    assert_eq!(active, ActiveSkill::GetUp);
+}
