@@ -4,7 +4,8 @@
 use super::host::value;
 use super::{AgentHost, Native, Ports};
 use crate::goalkeeper::{Save, Shot};
-use libero_behavior::{NodeSpec, ParamSpec, Status, Value, ValueType};
+use libero_behavior::{NodeSpec, Status, Value, ValueType};
+use libero_skills::save::{DiveSide, SaveState};
 use libero_skills::BodyIntent;
 use libero_world::{Global, Own, Relation};
 
@@ -62,11 +63,21 @@ fn defend_goal(host: &mut AgentHost, _: &Ports) -> Status {
 fn save_shot_ports() -> NodeSpec {
     NodeSpec::action(
         "SaveShot",
-        "Meets a shot on goal: walks to where the ball crosses the keeper's line, blocks a ball coming at it, dives to the side when walking is too slow. Succeeds once no shot is coming (or the save motion is over).",
+        "Meets a shot on goal: walks to where the ball crosses the keeper's line, blocks a ball coming at it, dives to its side when walking is too slow (the save motions in the skill parameters). Succeeds once no shot is coming or the save motion has played out.",
     )
 }
 
 fn save_shot(host: &mut AgentHost, _: &Ports) -> Status {
+    match host.skills.save {
+        // The motion plays to its end whatever is asked; keep asking for it meanwhile.
+        SaveState::Diving(side) => {
+            host.intent.body = BodyIntent::Dive { side };
+            return Status::Running;
+        }
+        // Played out: stop asking, so the get-up follows.
+        SaveState::Done(_) => return Status::Success,
+        SaveState::Idle => {}
+    }
     let Some(shot) = host.shot_on_goal() else {
         return Status::Success;
     };
@@ -74,9 +85,21 @@ fn save_shot(host: &mut AgentHost, _: &Ports) -> Status {
     let ball = host.ball();
     match keeper.save(host.me(), &shot) {
         Save::Walk(point) => host.walk_towards(point, Some(ball), f64::INFINITY),
-        // Standing square to the ball is the block.
-        Save::Block => host.intent.body = BodyIntent::Stand,
-        Save::Dive { .. } => host.walk_towards(shot.at_keeper_line, Some(ball), f64::INFINITY),
+        Save::Block => {
+            host.intent.body = BodyIntent::Dive {
+                side: DiveSide::Centre,
+            }
+        }
+        Save::Dive { .. } => {
+            // Which way is the robot's own: the crossing point seen from the keeper.
+            let crossing = host.world.pose().robot(host.global_of(shot.at_keeper_line));
+            let side = if crossing.y >= 0.0 {
+                DiveSide::Left
+            } else {
+                DiveSide::Right
+            };
+            host.intent.body = BodyIntent::Dive { side };
+        }
     }
     host.look_at_ball();
     Status::Running
