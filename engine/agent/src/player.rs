@@ -194,7 +194,15 @@ impl Player {
         self.pick_up_skill_params();
         self.skills
             .act(&self.model, &self.world, &self.intent, &mut self.targets);
-        self.decider.observe(&self.skills.status());
+        let status = self.skills.status();
+        self.decider.observe(&status);
+        self.stats.in_motion.store(
+            matches!(
+                status.active,
+                libero_skills::ActiveSkill::GetUp | libero_skills::ActiveSkill::Save
+            ),
+            Ordering::Relaxed,
+        );
         let mode = self.world.game.play_mode;
         // The side must be known: the server ignores a beam from a robot whose init has not
         // taken effect (SimSpark), and the right team's beam is mirrored (rcssservermj).

@@ -22,9 +22,17 @@ pub struct AgentStats {
     pub truth_position: Mutex<Option<[f64; 3]>>,
     /// The decision trace of the last cycle, when the player shares it.
     pub trace: Mutex<Option<String>>,
+    /// Whether the last cycle played a whole-body motion (get-up or save) that nothing
+    /// interrupts: a harness that places robots waits for it to end.
+    pub in_motion: std::sync::atomic::AtomicBool,
 }
 
 impl AgentStats {
+    /// See [`AgentStats::in_motion`].
+    pub fn is_in_motion(&self) -> bool {
+        self.in_motion.load(Ordering::Relaxed)
+    }
+
     pub fn get(counter: &AtomicU64) -> u64 {
         counter.load(Ordering::Relaxed)
     }

@@ -17,6 +17,9 @@ use libero_model::RobotModel;
 use libero_server::{Monitor, ServerOptions, ServerProcess};
 use libero_world::params::BallParams;
 use libero_world::WorldParams;
+
+/// A torso higher than this stands (walking height is about 0.6 m, lying below 0.3 m).
+const STANDING_TORSO_Z_M: f64 = 0.5;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -169,6 +172,34 @@ impl Arena {
             .collect()
     }
 
+    /// Wait (at most 15 s of simulated time) until no robot plays a get-up or save motion.
+    fn wait_for_motions_to_end(&self) -> Result<(), RunError> {
+        let until = self.now() + 15.0;
+        let mut last = (self.now(), Instant::now());
+        while self.robots.iter().any(|r| r.stats.is_in_motion()) && self.now() < until {
+            let now = self.now();
+            if now > last.0 {
+                last = (now, Instant::now());
+            } else if last.1.elapsed() > STALL {
+                return Err(RunError::Setup(format!(
+                    "the server stalled at {now:.2} s of simulated time"
+                )));
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(())
+    }
+
+    /// Every robot upright (ground truth) and none in a get-up or save motion.
+    fn all_standing_still(&self) -> bool {
+        self.robots.iter().all(|r| {
+            !r.stats.is_in_motion()
+                && r.stats
+                    .truth_position()
+                    .is_some_and(|p| p[2] > STANDING_TORSO_Z_M)
+        })
+    }
+
     /// Drop the ball (PlayOn), place robots and ball, and check the ground truth, resending
     /// what was ignored.
     fn place(&mut self, setup: &RunSetup) -> Result<(), RunError> {
@@ -231,8 +262,30 @@ impl Arena {
 
     /// Run one situation to its verdict.
     pub fn run(&mut self, scenario: &Scenario, setup: &RunSetup) -> Result<RunOutcome, RunError> {
-        self.place(setup)?;
-        self.wait_until(self.now() + scenario.settle_s)?;
+        // Each run starts from robots standing still where the file puts them: a robot still
+        // in a get-up or save from the run before (one set of agents serves the series) is
+        // waited for, and a placement that ends in a fall is made again.
+        for attempt in 0.. {
+            self.wait_for_motions_to_end()?;
+            self.place(setup)?;
+            self.wait_until(self.now() + scenario.settle_s)?;
+            if self.all_standing_still() {
+                break;
+            }
+            for r in &self.robots {
+                log::debug!(
+                    "placement {attempt}: robot {} in motion {} torso {:?}",
+                    r.unum,
+                    r.stats.is_in_motion(),
+                    r.stats.truth_position()
+                );
+            }
+            if attempt == 3 {
+                return Err(RunError::Setup(
+                    "the robots did not stand still after four placements".into(),
+                ));
+            }
+        }
         let start = self.monitor().snapshot();
         let launch = format!(
             "(ball (pos {} {} {BALL_Z_M})(vel {} {} 0))",

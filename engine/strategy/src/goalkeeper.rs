@@ -43,6 +43,10 @@ pub struct GoalkeeperParams {
     pub block_reach_m: f64,
     /// ... one within this by a dive to its side [m]; beyond, the keeper can only walk.
     pub dive_reach_m: f64,
+    /// While defending, the head leaves the ball to scan for landmarks every this long [s] ...
+    pub scan_every_s: f64,
+    /// ... for this long [s].
+    pub scan_s: f64,
 }
 
 impl Default for GoalkeeperParams {
@@ -62,6 +66,8 @@ impl Default for GoalkeeperParams {
             save_within_s: 1.2,
             block_reach_m: 0.35,
             dive_reach_m: 1.3,
+            scan_every_s: 4.0,
+            scan_s: 1.0,
         }
     }
 }

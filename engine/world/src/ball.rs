@@ -174,6 +174,15 @@ impl BallEstimate {
                 }
                 _ => None,
             };
+            // Faster than any kick: the ball was placed, not kicked.
+            let teleported = t.launch.is_some_and(|l| {
+                let dt = (time - l.earliest).max(1e-3);
+                (p.xy() - l.origin).norm() / dt > t.params.max_launch_speed_m_s
+            });
+            if teleported {
+                t.launch = None;
+                carried.clear();
+            }
             t.observations.clear();
             t.observations.extend(carried.into_iter().rev());
             t.launch_speed = None;

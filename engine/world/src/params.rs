@@ -17,6 +17,10 @@ pub struct LocalizationParams {
     pub relocalize_distance: f64,
     pub relocalize_yaw_deg: f64,
     pub relocalize_fit_rms: f64,
+    /// A fit rougher than `relocalize_fit_rms` but within this [m] still relocalizes when the
+    /// estimate lies more than `relocalize_far_ratio` times its rms away (a placement).
+    pub relocalize_far_fit_rms: f64,
+    pub relocalize_far_ratio: f64,
     pub lost_after_rejected_frames: u32,
     pub tilt_accel_correction: f64,
     pub tilt_accel_correction_still: f64,
@@ -30,6 +34,9 @@ pub struct BallParams {
     pub fit_window_s: f64,
     pub new_track_gate: f64,
     pub start_gate: f64,
+    /// A jump that would need a faster launch than this [m/s] was a placement (the referee,
+    /// a monitor), not a kick: the ball starts a new track at rest, with no launch.
+    pub max_launch_speed_m_s: f64,
     /// A track moves only when its window's straight-line velocity exceeds this many standard
     /// errors of the points' scatter about the line ...
     pub motion_significance: f64,
@@ -128,9 +135,12 @@ impl WorldParams {
         positive("relocalize_distance", l.relocalize_distance);
         positive("relocalize_yaw_deg", l.relocalize_yaw_deg);
         positive("relocalize_fit_rms", l.relocalize_fit_rms);
+        positive("relocalize_far_fit_rms", l.relocalize_far_fit_rms);
+        positive("relocalize_far_ratio", l.relocalize_far_ratio);
         positive("fit_window_s", b.fit_window_s);
         positive("new_track_gate", b.new_track_gate);
         positive("start_gate", b.start_gate);
+        positive("max_launch_speed_m_s", b.max_launch_speed_m_s);
         positive("motion_significance", b.motion_significance);
         positive("scatter_floor_m", b.scatter_floor_m);
         positive("launch_fit_s", b.launch_fit_s);

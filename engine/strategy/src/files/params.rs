@@ -62,6 +62,8 @@ pub fn parse_goalkeeper(decoder: &mut Decoder, node: &Node) -> Option<Goalkeeper
     let save_within_s = num("save_within_s", 0.0, 10.0, d.save_within_s);
     let block_reach_m = num("block_reach_m", 0.0, 2.0, d.block_reach_m);
     let dive_reach_m = num("dive_reach_m", 0.0, 4.0, d.dive_reach_m);
+    let scan_every_s = num("scan_every_s", 0.5, 60.0, d.scan_every_s);
+    let scan_s = num("scan_s", 0.0, 10.0, d.scan_s);
     let span = max_span.unwrap_or(fields.span);
     fields.finish(
         decoder,
@@ -80,6 +82,8 @@ pub fn parse_goalkeeper(decoder: &mut Decoder, node: &Node) -> Option<Goalkeeper
             "save_within_s",
             "block_reach_m",
             "dive_reach_m",
+            "scan_every_s",
+            "scan_s",
         ],
     );
     let params = GoalkeeperParams {
@@ -97,6 +101,8 @@ pub fn parse_goalkeeper(decoder: &mut Decoder, node: &Node) -> Option<Goalkeeper
         save_within_s: save_within_s?,
         block_reach_m: block_reach_m?,
         dive_reach_m: dive_reach_m?,
+        scan_every_s: scan_every_s?,
+        scan_s: scan_s?,
     };
     if params.max_distance_m < params.min_distance_m {
         let message = format!(

@@ -52,10 +52,19 @@ fn defend_goal(host: &mut AgentHost, _: &Ports) -> Status {
     let point = host.defense_point();
     let ball = host.ball();
     host.walk_to(point, Some(ball), f64::INFINITY, 0.0);
-    if host.world.ball.age(host.world.time) < 3.0 {
+    // The head stays on the ball, but a keeper that only watches the ball sees too few
+    // landmarks and its self-estimate drifts (then every ball estimate is wrong): it scans
+    // for `scan_s` every `scan_every_s`.
+    let keeper = host.goalkeeper();
+    let phase = host.world.time % keeper.scan_every_s.max(keeper.scan_s + 0.1);
+    let ball_known = host.world.ball.age(host.world.time) < 3.0;
+    if ball_known && phase >= keeper.scan_s {
         host.look_at_ball();
     } else {
-        host.look_for_ball_now();
+        host.intent.head = libero_skills::HeadIntent::LookAround {
+            amplitude_deg: None,
+            period_s: Some(keeper.scan_s.max(0.5)),
+        };
     }
     Status::Running
 }
@@ -83,6 +92,13 @@ fn save_shot(host: &mut AgentHost, _: &Ports) -> Status {
     };
     let keeper = host.goalkeeper();
     let ball = host.ball();
+    log::debug!(
+        "t {:.2} keeper {:?} shot {:?} -> {:?}",
+        host.world.time,
+        host.me(),
+        shot,
+        keeper.save(host.me(), &shot)
+    );
     match keeper.save(host.me(), &shot) {
         Save::Walk(point) => host.walk_towards(point, Some(ball), f64::INFINITY),
         Save::Block => {
@@ -162,13 +178,6 @@ impl AgentHost<'_> {
     pub(crate) fn defense_point(&self) -> Own {
         self.goalkeeper()
             .defense_point(self.ball(), &self.strategy.field())
-    }
-
-    pub(crate) fn look_for_ball_now(&mut self) {
-        self.intent.head = libero_skills::HeadIntent::LookAround {
-            amplitude_deg: None,
-            period_s: None,
-        };
     }
 
     /// The shot coming at our goal, if any: where it crosses the keeper's line (parallel to

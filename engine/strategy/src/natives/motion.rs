@@ -5,7 +5,7 @@ use super::{AgentHost, Native, Ports};
 use libero_behavior::{NodeSpec, ParamSpec, Status, Value, ValueType};
 use libero_skills::kick::KickState;
 use libero_skills::{BodyIntent, HeadIntent};
-use libero_world::{Own, Posture};
+use libero_world::Own;
 
 pub(super) const NODES: &[Native] = &[
     Native::action(beam_to_formation_ports, beam_to_formation),
@@ -45,16 +45,15 @@ fn beam_to_formation(host: &mut AgentHost, _: &Ports) -> Status {
 fn stand_ports() -> NodeSpec {
     NodeSpec::action(
         "Stand",
-        "Holds the standing pose (getting up first if fallen); succeeds when stable.",
+        "Holds the standing pose; a robot lying for the get-up's rest time gets up first (the skill's fall detector). Runs until halted.",
     )
 }
 
 fn stand(host: &mut AgentHost, _: &Ports) -> Status {
-    host.intent.body = if host.world.body.posture == Posture::Upright {
-        BodyIntent::Stand
-    } else {
-        BodyIntent::GetUp
-    };
+    // Not `GetUp`: that starts at once, and a jolt (a placement, a bump) that fakes a fall for
+    // a moment then throws a standing robot down. The skill gets up by itself once the fall
+    // detector has reported lying for its rest time.
+    host.intent.body = BodyIntent::Stand;
     Status::Running
 }
 
