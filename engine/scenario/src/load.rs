@@ -2,13 +2,11 @@
 
 use crate::decode::{head, items, Decoder};
 use crate::spec::{
-    aimed_heading, rest_point, BallSpec, Launch, Num, Place, Play, Point, Rng, Robot, Scenario,
-    Success,
+    shortfall, BallSpec, Launch, Num, Place, Play, Point, Rng, Robot, Scenario, Success,
 };
 use libero_behavior::diagnostics::{did_you_mean, Diagnostic, Report, SourceFile};
 use libero_behavior::syntax::{self, Node, NodeKind, Span};
 use libero_model::FieldGeometry;
-use libero_world::params::BallParams;
 use libero_world::WorldParams;
 use std::path::Path;
 use std::sync::Arc;
@@ -527,14 +525,6 @@ fn launch_reaches(d: &mut Decoder, span: Span, field: &FieldGeometry, at: Point,
     } else {
         d.warning_hint("launch-short", span, message, hint);
     }
-}
-
-/// How far short of `to` a ball launched from `from` at `v` stops [m] (≤ 0: it gets there).
-pub fn shortfall(ball: &BallParams, from: [f64; 2], to: [f64; 2], v: f64) -> f64 {
-    let heading = aimed_heading(ball, from, to, v);
-    let rest = rest_point(ball, from, v, heading);
-    let need = (to[0] - from[0]).hypot(to[1] - from[1]);
-    need - (rest[0] - from[0]).hypot(rest[1] - from[1])
 }
 
 fn success(d: &mut Decoder, node: &Node, ours: &[Robot], ours_known: bool) -> Option<Success> {

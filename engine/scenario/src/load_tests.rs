@@ -1,6 +1,7 @@
 //! Scenario files: a good one, and each kind of error at its place.
 
-use crate::load::{is_scenario_text, load_text, shortfall};
+use crate::load::{is_scenario_text, load_text};
+use crate::spec::{path_point, shortfall};
 use crate::spec::{Launch, Num, Play, Success};
 use libero_behavior::Report;
 use libero_world::WorldParams;
@@ -75,6 +76,25 @@ fn runs_are_reproducible_and_varied() {
         // Every shot is aimed to reach its target in the goal.
         let t = r.target.unwrap();
         assert!(shortfall(&ball, r.ball, t, r.launch_speed()) <= 0.0);
+        // ... and its modelled path goes through the target.
+        let h = r.ball_velocity[1].atan2(r.ball_velocity[0]);
+        let d = (t[0] - r.ball[0]).hypot(t[1] - r.ball[1]);
+        let closest = (0..=400)
+            .map(|k| {
+                path_point(
+                    &ball,
+                    r.ball,
+                    r.launch_speed(),
+                    h,
+                    d * 1.2 * k as f64 / 400.0,
+                )
+            })
+            .map(|p| (p[0] - t[0]).hypot(p[1] - t[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            closest < 0.05,
+            "run {i}: the path passes {closest:.3} m from the target"
+        );
         assert!(r.ball_velocity[0] < 0.0);
     }
 }
@@ -242,4 +262,47 @@ fn the_shipped_scenarios_are_valid() {
     }
     let report = crate::validate_files(&files);
     assert!(report.diagnostics.is_empty(), "{}", report.render_text());
+}
+
+#[test]
+fn the_shipped_scenarios_are_valid() {
+    let dir = crate::default_scenarios_dir();
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4, "{files:?}");
+    for f in &files {
+        assert!(crate::is_scenario_file(f), "{}", f.display());
+    }
+    let report = crate::validate_files(&files);
+    assert!(report.diagnostics.is_empty(), "{}", report.render_text());
+}
+
+#[test]
+#[ignore]
+fn print_curves() {
+    let ball = WorldParams::builtin().ball;
+    let t = &ball.launch_table;
+    for h in [180.0f64, 175.0, 170.0, 160.0, 150.0, 135.0] {
+        let v = 6.5;
+        let s = t.stop_offset(v, h.to_radians());
+        let hr = h.to_radians();
+        let along = s.x * hr.cos() + s.y * hr.sin();
+        let left = -s.x * hr.sin() + s.y * hr.cos();
+        let chords: Vec<String> = [0.2, 0.4, 0.6]
+            .iter()
+            .map(|&tau| {
+                format!(
+                    "{:.2}°@{:.2}m",
+                    t.chord_turn(v, hr, tau).to_degrees(),
+                    t.distance(v, hr, tau)
+                )
+            })
+            .collect();
+        println!("{h}°: along {along:.2} left {left:.2}; chords {chords:?}");
+    }
 }
