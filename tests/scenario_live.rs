@@ -35,6 +35,7 @@ fn data() -> RunData {
     RunData {
         library: load_library(&default_data_dirs(), false).unwrap(),
         skills: SkillSource::Builtin,
+        interrupt: Default::default(),
     }
 }
 

@@ -92,6 +92,10 @@ pub fn run_series(
                     summary.runs.push(outcome);
                     continue 'runs;
                 }
+                Err(RunError::Interrupted) => {
+                    error = Some(RunError::Interrupted);
+                    break 'runs;
+                }
                 Err(e) if attempt == 1 => {
                     log::warn!(
                         "scenario: run {} failed ({e}); restarting the server",
