@@ -289,3 +289,132 @@ fn skill_parameter_edits_change_the_running_robot_and_broken_ones_are_refused() 
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     team.join();
 }
+
+/// Put the ball where the keeper must cover it and start play (`dropBall` is rcsssmj's PlayOn),
+/// resending until the ground truth shows it.
+fn drop_ball_at(server: &mut ServerProcess, x: f64, y: f64) {
+    for _ in 0..20 {
+        let monitor = server.monitor();
+        monitor.send("(dropBall)").unwrap();
+        monitor.place_ball([x, y, 0.11], [0.0; 3]).unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        let snapshot = server.monitor().snapshot();
+        let placed = snapshot
+            .ball
+            .is_some_and(|b| (b[0] - x).hypot(b[1] - y) < 0.2);
+        if placed && snapshot.play_mode == "PlayOn" {
+            return;
+        }
+    }
+    panic!("the ball could not be placed at ({x}, {y})");
+}
+
+#[test]
+fn goalkeeper_file_edits_move_where_the_keeper_stands() {
+    init_logging();
+    // Real time: "within a second of the write" means a second of play.
+    let mut server = ServerProcess::start(ServerOptions {
+        sync: false,
+        realtime: true,
+        ..ServerOptions::default()
+    })
+    .expect("starting rcssservermj");
+    let dirs = copy_of_shipped_data();
+    let keeper_file = dirs[1].join("goalkeeper.ron");
+    let original = std::fs::read_to_string(&keeper_file).unwrap();
+    let source = build::load_library(&dirs, true).expect("shipped files load");
+    let player = build::tree_player(&t1(), "Home", 1, &source, &SkillSource::Builtin).unwrap();
+    let stats = Arc::clone(player.stats());
+    let stop = Arc::new(AtomicBool::new(false));
+    let team = Team::start(
+        &AgentConfig::new("127.0.0.1", server.agent_port),
+        vec![player],
+        Arc::clone(&stop),
+    );
+    wait_until(Duration::from_secs(20), || stats.truth_position().is_some())
+        .expect("the keeper joined");
+    std::thread::sleep(Duration::from_secs(3));
+    // The ball 12 m out on the left of our goal (we play left: own frame = global frame).
+    drop_ball_at(&mut server, -16.0, 5.0);
+    let strategy = |text: &str| {
+        let files = [("goalkeeper.ron", text)];
+        let library = libero_behavior::Library::from_texts(
+            &files,
+            &libero_strategy::vocabulary(),
+            &libero_strategy::StrategyFiles,
+        )
+        .unwrap();
+        libero_strategy::strategy_of(&library).goalkeeper.unwrap()
+    };
+    let field = libero_strategy::Field::by_name("fifa7vs7").unwrap();
+    let ball = libero_world::Own::new(-16.0, 5.0);
+    let near = strategy(&original).defense_point(ball, &field);
+    let distance_to = |p: libero_world::Own| {
+        stats
+            .truth_position()
+            .map_or(f64::INFINITY, |t| (t[0] - p.x).hypot(t[1] - p.y))
+    };
+    let reached = wait_until(Duration::from_secs(25), || distance_to(near) < 0.3);
+    assert!(
+        reached.is_some(),
+        "the keeper never reached the defense point {near:?}: {:?}",
+        stats.truth_position()
+    );
+    std::thread::sleep(Duration::from_secs(1));
+
+    // Farther out: the point moves about 1.2 m towards the ball.
+    let edited = original
+        .replace("min_distance_m: 0.5,", "min_distance_m: 2.5,")
+        .replace("max_distance_m: 1.6,", "max_distance_m: 3.0,");
+    assert_ne!(edited, original, "the edit must change the file");
+    let far = strategy(&edited).defense_point(ball, &field);
+    assert!(far.distance(near) > 1.0, "{near:?} -> {far:?}");
+    let before = distance_to(far);
+    let generation = || match &source {
+        LibrarySource::Live(live) => live.generation(),
+        LibrarySource::Fixed(_) => 0,
+    };
+    let old_generation = generation();
+    save(&keeper_file, &edited);
+    let written = Instant::now();
+    // The decision changes at the first cycle after the reload ...
+    let reloaded = wait_until(Duration::from_secs(1), || generation() > old_generation);
+    assert!(reloaded.is_some(), "the edit was not live within a second");
+    // ... and the torso follows once the walk has started from standing (1.2-1.5 s measured:
+    // the gait's first steps, see NOTES.md).
+    let moving = wait_until(Duration::from_secs(2), || distance_to(far) < before - 0.03);
+    assert!(
+        moving.is_some(),
+        "within 2 s of the write the keeper did not move towards the new point {far:?}: {:?}",
+        stats.truth_position()
+    );
+    eprintln!(
+        "edit live {reloaded:?}, keeper moving towards the new point {:?} after the write",
+        written.elapsed()
+    );
+    let arrived = wait_until(Duration::from_secs(20), || distance_to(far) < 0.3);
+    assert!(
+        arrived.is_some(),
+        "the keeper never reached the edited point {far:?}: {:?}",
+        stats.truth_position()
+    );
+
+    // A broken edit keeps the running point.
+    save(
+        &keeper_file,
+        &edited.replace("line: \"post_bisector\"", "line: \"nowhere\""),
+    );
+    let rejected = wait_until(Duration::from_secs(3), || {
+        events(&source)
+            .iter()
+            .any(|e| matches!(e, ReloadEvent::Rejected { .. }))
+    });
+    assert!(rejected.is_some(), "the broken edit was not reported");
+    std::thread::sleep(Duration::from_secs(2));
+    assert!(
+        distance_to(far) < 0.4,
+        "the keeper left its point after a broken edit"
+    );
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    team.join();
+}

@@ -169,3 +169,57 @@ fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
     let mean = travelled / f64::from(good);
     assert!(mean >= 9.0, "kicks made travelled {mean:.2} m on average");
 }
+
+/// A dive to the left from standing on the goal line (ground truth + FK of the measured angles
+/// give the body's span along the line): it must cover the line 1.0 m beside the start point
+/// within 1.0 s of the request, and the get-up the fall detector starts must stand the robot
+/// again within 8 s. `dive_probe left` measured 0.60 s to 1.0 m, 0.76 s to the whole stretch
+/// 0.3–1.3 m, and standing again at 3.64–3.70 s in 20 of 20 (NOTES.md "Save motions"); the bars
+/// leave room for the slower back get-up (~5 s) should a landing end on the back.
+#[test]
+fn dives_left_across_the_goal_line_then_gets_up() {
+    use libero_skills::DiveSide;
+    use libero_trial::save_bench::{self, KEEPER_START};
+    let (_turn, mut trial, params) = setup();
+    let run = save_bench::save(&mut trial, &params, DiveSide::Left, KEEPER_START, 9.6).unwrap();
+    eprintln!(
+        "left dive: 1.0 m at {:?} s, 0.3-1.3 m at {:?} s, max reach {:.2} m, tilt 30 deg at {:?} s, stood at {:?} s",
+        run.covers_at(1.0),
+        run.covers_span_at(0.3, 1.3),
+        run.max_reach(),
+        run.tilt_30_s,
+        run.stood_at
+    );
+    assert!(
+        run.covers_at(1.0).is_some_and(|t| t <= 1.0),
+        "the dive did not cover 1.0 m within 1.0 s (max reach {:.2} m)",
+        run.max_reach()
+    );
+    assert!(
+        run.stood_at.is_some_and(|t| t <= 8.0),
+        "not standing again within 8 s: {:?}",
+        run.stood_at
+    );
+}
+
+/// The block: arms out and legs spread cover ±0.5 m beside the start within 0.3 s (measured:
+/// 0.12 s, ±0.61 m) and the robot stays on its feet.
+#[test]
+fn blocks_half_a_metre_either_side_without_falling() {
+    use libero_skills::DiveSide;
+    use libero_trial::save_bench::{self, KEEPER_START};
+    let (_turn, mut trial, params) = setup();
+    let run = save_bench::save(&mut trial, &params, DiveSide::Centre, KEEPER_START, 3.0).unwrap();
+    eprintln!(
+        "block: ±0.5 m at {:?} s, reach {:.2} m, fell {}",
+        run.covers_at(0.5),
+        run.max_reach(),
+        run.fell
+    );
+    assert!(
+        run.covers_at(0.5).is_some_and(|t| t <= 0.3),
+        "{:?}",
+        run.covers_at(0.5)
+    );
+    assert!(!run.fell, "the block fell");
+}

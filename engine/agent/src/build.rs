@@ -1,13 +1,13 @@
 //! Assembling a player from data: robot model, skill parameters, decision source.
 
 use crate::decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
-use crate::natives::{vocabulary, Natives};
 use crate::player::Player;
 use crate::skill_source::SkillSource;
 use crate::stats::AgentStats;
-use libero_behavior::{Library, LiveLibrary, ReloadOptions};
+use libero_behavior::{LiveLibrary, ReloadOptions};
 use libero_model::RobotModel;
 use libero_skills::{SkillParams, Skills};
+use libero_strategy::{vocabulary, Natives, StrategyFiles};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -93,17 +93,18 @@ pub fn default_data_dirs() -> Vec<PathBuf> {
 /// Load the behavior and strategy files of `dirs`; with `watch`, keep watching them and swap in
 /// every good edit while the team plays.
 pub fn load_library(dirs: &[PathBuf], watch: bool) -> Result<LibrarySource, BuildError> {
-    let vocabulary = vocabulary();
     if watch {
+        let vocabulary = vocabulary();
         let live = LiveLibrary::start(
             dirs.to_vec(),
             Arc::new(vocabulary),
+            Arc::new(StrategyFiles),
             ReloadOptions::default(),
         )
         .map_err(|report| BuildError::Behavior(report.render_text()))?;
         Ok(LibrarySource::Live(Arc::new(live)))
     } else {
-        let library = Library::load(dirs, &vocabulary)
+        let library = libero_strategy::load(dirs)
             .map_err(|report| BuildError::Behavior(report.render_text()))?;
         Ok(LibrarySource::Fixed(Arc::new(library)))
     }
@@ -118,7 +119,7 @@ pub fn tree_player(
     source: &LibrarySource,
     skills: &SkillSource,
 ) -> Result<Player, BuildError> {
-    let natives = Natives::new(&vocabulary());
+    let natives = Natives::new();
     let decider = Box::new(TreeDecider::new(source.clone(), natives, unum));
     player_with(model, team, unum, decider, skills)
 }

@@ -1,8 +1,8 @@
 //! The decision stage: from beliefs to this cycle's intent.
 
-use crate::natives::{AgentHost, Natives};
 use libero_behavior::{Library, LiveLibrary, TreeRunner};
 use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
+use libero_strategy::{strategy_of, AgentHost, Natives, PlayerMemory};
 use libero_world::World;
 use std::sync::Arc;
 
@@ -63,6 +63,7 @@ pub struct TreeDecider {
     source: LibrarySource,
     natives: Natives,
     runner: Option<TreeRunner>,
+    memory: PlayerMemory,
     unum: u32,
     /// What the skills made of the previous cycle's intent (a kick node waits for `Done`).
     skills: SkillStatus,
@@ -74,6 +75,7 @@ impl TreeDecider {
             source,
             natives,
             runner: None,
+            memory: PlayerMemory::default(),
             unum,
             skills: SkillStatus::default(),
         }
@@ -86,7 +88,7 @@ impl TreeDecider {
             return;
         }
         let unum = u8::try_from(self.unum).unwrap_or(u8::MAX);
-        let Some(root) = library.strategy().tree_for(unum) else {
+        let Some(root) = strategy_of(library).tree_for(unum) else {
             return;
         };
         match TreeRunner::new(library, root) {
@@ -104,9 +106,10 @@ impl Decider for TreeDecider {
         if let Some(runner) = self.runner.as_mut() {
             let mut host = AgentHost {
                 world,
-                strategy: library.strategy(),
+                strategy: strategy_of(&library),
                 natives: &self.natives,
                 skills: &self.skills,
+                memory: &mut self.memory,
                 intent: &mut intent,
             };
             runner.tick(&mut host, &library);

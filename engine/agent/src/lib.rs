@@ -11,7 +11,6 @@ pub mod actuate;
 pub mod build;
 pub mod connection;
 pub mod decide;
-pub mod natives;
 pub mod player;
 pub mod run;
 pub mod skill_source;

@@ -195,6 +195,14 @@ impl<'n> Fields<'n> {
         }
     }
 
+    /// Where field `name`'s value is, without taking it.
+    pub fn peek_span(&self, name: &str) -> Option<Span> {
+        self.fields
+            .iter()
+            .find(|f| f.name.name == name)
+            .map(|f| f.value.span)
+    }
+
     pub fn take(&mut self, name: &str) -> Option<&'n Node> {
         let index = self.fields.iter().position(|f| f.name.name == name)?;
         self.used[index] = true;

@@ -2,6 +2,7 @@
 //! whole library off the agent threads and publishes it with one atomic swap. Broken edits
 //! keep the last good version and are reported once.
 
+use crate::data_files::DataFiles;
 use crate::diagnostics::Report;
 use crate::library::{build, fingerprint, read_sources, Library};
 use crate::vocabulary::Vocabulary;
@@ -59,11 +60,12 @@ impl LiveLibrary {
     pub fn start(
         paths: Vec<PathBuf>,
         vocabulary: Arc<Vocabulary>,
+        data_files: Arc<dyn DataFiles>,
         options: ReloadOptions,
     ) -> Result<LiveLibrary, Report> {
         let (sources, mut report) = read_sources(&paths);
         let initial_fingerprint = fingerprint(&sources);
-        let library = build(&sources, &vocabulary, &mut report);
+        let library = build(&sources, &vocabulary, data_files.as_ref(), &mut report);
         report.sort();
         let mut library = match library {
             Some(library) if !report.has_errors() => library,
@@ -81,6 +83,7 @@ impl LiveLibrary {
         let mut reloader = Reloader {
             paths: paths.clone(),
             vocabulary,
+            data_files,
             shared: shared.clone(),
             events: events_tx,
             last_fingerprint: initial_fingerprint,
@@ -136,6 +139,7 @@ impl LiveLibrary {
 struct Reloader {
     paths: Vec<PathBuf>,
     vocabulary: Arc<Vocabulary>,
+    data_files: Arc<dyn DataFiles>,
     shared: Arc<Shared>,
     events: mpsc::Sender<ReloadEvent>,
     last_fingerprint: u64,
@@ -150,7 +154,12 @@ impl Reloader {
             return;
         }
         self.last_fingerprint = fingerprint;
-        let library = build(&sources, &self.vocabulary, &mut report);
+        let library = build(
+            &sources,
+            &self.vocabulary,
+            self.data_files.as_ref(),
+            &mut report,
+        );
         report.sort();
         match library {
             Some(mut library) if !report.has_errors() => {

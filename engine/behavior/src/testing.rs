@@ -1,5 +1,6 @@
-//! The reference vocabulary (the native nodes the agent provides now) and a scripted host, for
-//! tests, benchmarks and `libero validate` before the agent's own vocabulary exists.
+//! A fixture vocabulary (native nodes shaped like a soccer agent's, with no behaviour behind
+//! them) and a scripted host, for the tree engine's own tests and benchmarks. Real domains
+//! declare their nodes themselves (the strategy crate).
 
 use crate::runtime::{Args, Host};
 use crate::value::{Status, Value, ValueType, Vec2};
@@ -25,9 +26,9 @@ pub const PLAY_MODES: &[&str] = &[
     "GameOver",
 ];
 
-impl Vocabulary {
-    /// The native nodes the agent implements; the agent's real vocabulary must match.
-    pub fn reference() -> Vocabulary {
+/// Example native nodes for tests of the engine.
+pub fn example_vocabulary() -> Vocabulary {
+    {
         use ValueType::*;
         Vocabulary::new()
             .with(

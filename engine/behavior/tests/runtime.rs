@@ -1,8 +1,8 @@
 //! Semantics of every node kind, the blackboard, subtree parameters, traces, and state carried
 //! across a library swap.
 
-use libero_behavior::testing::ScriptedHost;
-use libero_behavior::{Library, Status, TreeRunner, Value, Vec2, Vocabulary};
+use libero_behavior::testing::{example_vocabulary, ScriptedHost};
+use libero_behavior::{Library, NoDataFiles, Status, TreeRunner, Value, Vec2};
 use std::sync::Arc;
 
 fn library(trees: &str) -> Arc<Library> {
@@ -11,7 +11,7 @@ fn library(trees: &str) -> Arc<Library> {
 
 fn library_with(trees: &str, blackboard: &str) -> Arc<Library> {
     let text = format!("Behaviors(blackboard: {{ {blackboard} }}, trees: {{ {trees} }})");
-    match Library::from_texts(&[("t.ron", &text)], &Vocabulary::reference()) {
+    match Library::from_texts(&[("t.ron", &text)], &example_vocabulary(), &NoDataFiles) {
         Ok(library) => Arc::new(library),
         Err(report) => panic!("{}", report.render_text()),
     }
@@ -25,7 +25,7 @@ struct Rig {
 
 impl Rig {
     fn new(library: Arc<Library>) -> Self {
-        let host = ScriptedHost::new(&Vocabulary::reference());
+        let host = ScriptedHost::new(&example_vocabulary());
         let runner = TreeRunner::new(&library, "Main").unwrap();
         Self {
             host,
@@ -336,7 +336,7 @@ fn swap_keeps_state_of_unchanged_subtrees_and_the_blackboard() {
         ),
         r#""n": Int(0), "extra": Bool(false)"#,
     );
-    let mut host = ScriptedHost::new(&Vocabulary::reference());
+    let mut host = ScriptedHost::new(&example_vocabulary());
     host.conditions.insert("CanBeam".into(), true);
     host.actions.insert("Stand".into(), Status::Success);
     let mut runner = TreeRunner::new(&v1, "Main").unwrap();
@@ -365,7 +365,7 @@ fn swap_keeps_state_of_unchanged_subtrees_and_the_blackboard() {
 fn swap_halts_running_actions_that_disappeared() {
     let v1 = library(r#""Main": Action("LookAround")"#);
     let v2 = library(r#""Main": Action("Stand")"#);
-    let mut host = ScriptedHost::new(&Vocabulary::reference());
+    let mut host = ScriptedHost::new(&example_vocabulary());
     let mut runner = TreeRunner::new(&v1, "Main").unwrap();
     runner.tick(&mut host, &v1);
     runner.tick(&mut host, &v2);
@@ -377,7 +377,7 @@ fn swap_halts_running_actions_that_disappeared() {
 fn a_library_without_the_root_keeps_the_running_tree() {
     let v1 = library(r#""Main": Action("LookAround")"#);
     let v2 = library(r#""Other": Action("Stand")"#);
-    let mut host = ScriptedHost::new(&Vocabulary::reference());
+    let mut host = ScriptedHost::new(&example_vocabulary());
     let mut runner = TreeRunner::new(&v1, "Main").unwrap();
     runner.tick(&mut host, &v2);
     assert_eq!(host.action_names(), ["LookAround"]);

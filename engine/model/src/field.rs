@@ -55,6 +55,8 @@ pub struct FieldGeometry {
     /// Playable ground outside the lines [m].
     pub border: f64,
     pub ball_radius: f64,
+    /// Players per team the server admits on this field.
+    pub players_per_team: u8,
     pub landmarks: Vec<Landmark>,
     /// Line segments as the server reports them (SimSpark), empty where it does not.
     #[serde(default)]
@@ -102,6 +104,24 @@ impl FieldGeometry {
         (self.length / 2.0, self.width / 2.0)
     }
 
+    /// Whether (x, y) lies on the field, lines included (the field is symmetric, so this holds
+    /// in the global frame and in either team's own frame).
+    pub fn contains(&self, [x, y]: [f64; 2]) -> bool {
+        let (hx, hy) = self.half_extent();
+        x.abs() <= hx + 1e-9 && y.abs() <= hy + 1e-9
+    }
+
+    /// The nearest point on the field.
+    pub fn clamp(&self, [x, y]: [f64; 2]) -> [f64; 2] {
+        let (hx, hy) = self.half_extent();
+        [x.clamp(-hx, hx), y.clamp(-hy, hy)]
+    }
+
+    /// Half the goal area's width and its depth, where the field has one.
+    pub fn goal_area_half(&self) -> Option<(f64, f64)> {
+        self.goal_area.map(|a| (a.depth, a.width / 2.0))
+    }
+
     fn problems(&self, file: &str, text: &str) -> Vec<Located> {
         let mut errors = Vec::new();
         let mut report = |needle: &str, message: String| {
@@ -135,6 +155,15 @@ impl FieldGeometry {
                     format!("`{key}` must be positive and finite, got {value}"),
                 );
             }
+        }
+        if !(1..=22).contains(&self.players_per_team) {
+            report(
+                "players_per_team",
+                format!(
+                    "`players_per_team` must be 1 to 22, got {}",
+                    self.players_per_team
+                ),
+            );
         }
         if !(self.border.is_finite() && self.border >= 0.0) {
             report("border", "`border` must be finite and not negative".into());

@@ -1,5 +1,7 @@
 //! What the decision layer asks the skills for, each cycle.
 
+pub use crate::save::DiveSide;
+
 /// The body's task this cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum BodyIntent {
@@ -33,6 +35,14 @@ pub enum BodyIntent {
     },
     /// Stand up from lying. Also done automatically whenever the fall detector reports a fall.
     GetUp,
+    /// Goalkeeper save: dive to a side or block straight ahead. Starts in the cycle it is
+    /// first asked for (when upright and not getting up) and plays to its end whatever is
+    /// asked meanwhile (`SkillStatus::save`: `Diving`, then `Done`). After a dive the robot
+    /// lies; while the request is still held after `Done` it stays down in the dive's end pose
+    /// (covering the line while the ball may still come), and once the request is dropped the
+    /// fall detector starts the get-up. Holding the request after `Done` never dives again: a
+    /// new save needs a cycle without one first.
+    Dive { side: DiveSide },
 }
 
 /// The head's task this cycle.
@@ -47,6 +57,8 @@ pub enum HeadIntent {
         amplitude_deg: Option<f64>,
         period_s: Option<f64>,
     },
+    /// Look at a point on the ground given in the robot frame (x forwards, y left) [m].
+    LookAt { target: [f64; 2] },
 }
 
 /// One cycle's request to the skill layer.

@@ -9,12 +9,14 @@ pub mod intent;
 pub mod kick;
 pub mod params;
 pub mod pose;
+pub mod save;
 pub mod walk;
 
 pub use intent::{BodyIntent, HeadIntent, Intent};
 pub use kick::{KickParams, KickState};
 pub use params::{ParamsError, SkillParams};
 pub use pose::{JointTarget, JointTargets};
+pub use save::{DiveSide, SaveParams, SaveState};
 pub use walk::{Velocity, Walk, WalkParams};
 
 use libero_model::RobotModel;
@@ -27,13 +29,18 @@ pub enum ActiveSkill {
     Walk,
     GetUp,
     Kick,
+    /// A goalkeeper save (dive or block), or lying still after a dive until the get-up starts.
+    Save,
 }
 
 /// What the skill layer is doing, for the decision layer.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SkillStatus {
     pub active: ActiveSkill,
     pub kick: KickState,
+    /// The long kick's measured spread (from the parameter file).
+    pub kick_spread: kick::KickSpread,
+    pub save: SaveState,
 }
 
 impl Default for SkillStatus {
@@ -41,6 +48,8 @@ impl Default for SkillStatus {
         Self {
             active: ActiveSkill::Stand,
             kick: KickState::Idle,
+            kick_spread: kick::KickSpread::default(),
+            save: SaveState::Idle,
         }
     }
 }
@@ -60,6 +69,12 @@ pub struct Skills {
     walk: Walk,
     kick: kick::Kick,
     get_up: getup::GetUp,
+    save: save::Save,
+    /// The pose a dive ended in, held while the robot lies and the request is still held
+    /// (covering the line). Once it is dropped the stand pose is blended into while the body
+    /// lies until the get-up starts: holding the end pose there instead stood 19 and 15 of 20
+    /// (end pose with straight legs / with the stand's legs) against 40 of 40 (NOTES.md).
+    after_dive: Option<(DiveSide, Vec<f64>)>,
     active: ActiveSkill,
     blend: Option<Blend>,
     /// The pose sent last cycle [deg per joint].
@@ -77,6 +92,8 @@ impl Skills {
             walk: Walk::new(model)?,
             kick: kick::Kick::new(model)?,
             get_up: getup::GetUp::new(),
+            save: save::Save::new(),
+            after_dive: None,
             params,
             last_pose: stand.clone(),
             pose: stand.clone(),
@@ -132,7 +149,14 @@ impl Skills {
         SkillStatus {
             active: self.active,
             kick: self.kick.state(),
+            kick_spread: self.params.kick.measured,
+            save: self.save.state(),
         }
+    }
+
+    /// Where the save stands (`Idle` when none is asked for).
+    pub fn save_state(&self) -> SaveState {
+        self.save.state()
     }
 
     /// Joint targets realising `intent` this cycle.
@@ -144,8 +168,32 @@ impl Skills {
         out: &mut JointTargets,
     ) {
         self.pose.copy_from_slice(&self.stand);
+        // A save goes first: it starts in the cycle it is asked for and nothing interrupts it.
+        let save_request = match intent.body {
+            BodyIntent::Dive { side } => Some(side),
+            _ => None,
+        };
+        let saving = self.save.update(
+            world,
+            save_request,
+            !self.get_up.is_running() && world.body.posture == libero_world::Posture::Upright,
+            &self.params.save,
+            model,
+            &mut self.pose,
+        );
+        // The save's last cycle (it wrote its end pose and is over).
+        let ended = saving && !self.save.is_running();
+        if let (true, SaveState::Done(side)) = (ended, self.save.state()) {
+            if side != DiveSide::Centre {
+                self.after_dive = Some((side, self.pose.clone()));
+            }
+        }
         let walk_params = &self.params.walk;
         let kick = match intent.body {
+            _ if saving => {
+                self.kick.reset();
+                None
+            }
             BodyIntent::Kick {
                 ball,
                 direction_deg,
@@ -173,7 +221,7 @@ impl Skills {
             }
         };
         let request = match intent.body {
-            BodyIntent::Stand | BodyIntent::GetUp => None,
+            BodyIntent::Stand | BodyIntent::GetUp | BodyIntent::Dive { .. } => None,
             BodyIntent::Kick { .. } => match kick {
                 Some(kick::KickOutput::Walk(v)) => v,
                 _ => None,
@@ -194,17 +242,38 @@ impl Skills {
             } => walk::walk_to::velocity_towards(target, heading_deg, walk_params)
                 .map(|v| v.capped(max_speed_m_s)),
         };
-        let getting_up = self.get_up.update(
-            world,
-            intent.body == BodyIntent::GetUp,
-            &self.params.get_up,
-            model,
-            &mut self.pose,
-        );
-        let active = if getting_up {
+        // A dive played out while the request is still held: stay down in its end pose, on
+        // the line, until the decision layer lets go (then the get-up starts after `rest_s`).
+        let held_down = !saving
+            && save_request.is_some()
+            && matches!(self.save.state(), SaveState::Done(_))
+            && self.after_dive.is_some();
+        let getting_up = !saving
+            && !held_down
+            && self.get_up.update(
+                world,
+                intent.body == BodyIntent::GetUp,
+                &self.params.get_up,
+                model,
+                &mut self.pose,
+            );
+        // Held until the get-up starts, or the robot turns out not to be lying after all.
+        if getting_up
+            || getup::Condition::UprightWithin(30.0).holds(&getup::Sensed::from_body(&world.body))
+        {
+            self.after_dive = None;
+        }
+        let active = if saving {
+            self.walk.reset();
+            ActiveSkill::Save
+        } else if getting_up {
             self.walk.reset();
             self.kick.reset();
             ActiveSkill::GetUp
+        } else if let Some((_, held)) = self.after_dive.as_ref().filter(|_| held_down) {
+            self.walk.reset();
+            self.pose.copy_from_slice(held);
+            ActiveSkill::Save
         } else if kick == Some(kick::KickOutput::Motion) {
             self.kick
                 .write_pose(world, &self.params.kick, &mut self.pose);
@@ -255,8 +324,9 @@ impl Skills {
                 duration_s: self.params.walk.settle_s,
             });
         }
-        if active != ActiveSkill::GetUp {
-            // The get-up motion starts from the measured angles and must not be softened.
+        if !matches!(active, ActiveSkill::GetUp | ActiveSkill::Save) {
+            // The get-up and save motions start from the measured angles and must not be
+            // softened.
             self.apply_blend(world.time);
         } else {
             self.blend = None;
@@ -265,6 +335,16 @@ impl Skills {
         if active == ActiveSkill::GetUp {
             for (joint, g) in &self.params.get_up.gains {
                 out.set_gains(model, joint, g.kp, g.kd);
+            }
+        }
+        if active == ActiveSkill::Save {
+            let side = self
+                .save
+                .side()
+                .or(self.after_dive.as_ref().map(|(side, _)| *side))
+                .unwrap_or(DiveSide::Centre);
+            for (joint, g) in self.params.save.gains_for(side) {
+                out.set_gains(model, &joint, g.kp, g.kd);
             }
         }
         if matches!(self.active, ActiveSkill::Walk | ActiveSkill::Kick) {
@@ -282,6 +362,19 @@ impl Skills {
         self.last_pose.copy_from_slice(&self.pose);
         match intent.head {
             HeadIntent::Hold => {}
+            HeadIntent::LookAt { target } => {
+                // The same aim as while approaching a kick: yaw to the bearing, pitch down to a
+                // point on the ground from the eye height.
+                let a = &self.params.kick.approach;
+                let distance = target[0].hypot(target[1]).max(0.01);
+                let pitch = a
+                    .eye_height_m
+                    .atan2(distance)
+                    .to_degrees()
+                    .min(a.look_down_deg);
+                out.set_angle(model, "head_yaw", target[1].atan2(target[0]).to_degrees());
+                out.set_angle(model, "head_pitch", pitch);
+            }
             HeadIntent::LookAround {
                 amplitude_deg,
                 period_s,

@@ -2,6 +2,7 @@
 
 use crate::getup::GetUpParams;
 use crate::kick::KickParams;
+use crate::save::SaveParams;
 use crate::walk::WalkParams;
 use libero_model::RobotModel;
 use serde::{Deserialize, Serialize};
@@ -26,6 +27,9 @@ pub struct SkillParams {
     pub walk: WalkParams,
     pub get_up: GetUpParams,
     pub kick: KickParams,
+    /// Goalkeeper saves (dives, block); a file without them cannot save.
+    #[serde(default)]
+    pub save: SaveParams,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -121,6 +125,7 @@ impl SkillParams {
         }
         self.get_up.validate(model).map_err(invalid)?;
         self.kick.validate().map_err(invalid)?;
+        self.save.validate(model).map_err(invalid)?;
         for motion in [&self.kick.short, &self.kick.long] {
             for joint in motion.swing_gains.keys() {
                 if model.joint_id(&format!("left_{joint}")).is_none()

@@ -14,6 +14,7 @@ pub mod kick_bench;
 pub mod kick_contact;
 pub mod measure;
 pub mod optimize;
+pub mod save_bench;
 
 pub use course::Course;
 pub use episode::{Episode, LyingPlacement, Recording, Sample, Trial, TrialError};

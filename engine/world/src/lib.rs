@@ -9,8 +9,9 @@
 //!
 //! **Frames.** Every estimate is in the server's *global* field frame (origin at the centre
 //! spot, +x towards the right goal, +y to the left of +x, yaw 0 = facing +x), whichever side we
-//! play on. [`World::to_own_frame`] and [`World::yaw_to_own_frame`] turn global values into the
-//! team's own frame (own goal at −x), which for the right team is the global frame turned 180°.
+//! play on. [`frames`] gives the global, own-team and robot frames distinct point types;
+//! [`World::side`] and [`World::pose`] convert between them (the own frame has the own goal at −x:
+//! for the right team it is the global frame turned 180°).
 //!
 //! **Ground truth.** The server's `pos`/`quat` (rcssservermj) are kept apart in
 //! [`GroundTruth`] for logs and tests; no estimate reads them.
@@ -22,6 +23,7 @@ pub mod ball_launch;
 pub mod ball_motion;
 pub mod body;
 pub mod eval_log;
+pub mod frames;
 pub mod game;
 pub mod geometry;
 pub mod localization;
@@ -30,6 +32,7 @@ pub mod players;
 
 pub use ball::BallEstimate;
 pub use body::{BodyState, Posture};
+pub use frames::{Global, Own, Pose, Robot, TeamSide};
 pub use game::{GameState, PlayMode, Side};
 pub use localization::SelfEstimate;
 pub use params::WorldParams;
@@ -187,38 +190,37 @@ impl World {
         self.players.forget_old(&self.params.players, self.time);
     }
 
+    /// Which way round our team plays: global ↔ own frame.
+    pub fn side(&self) -> TeamSide {
+        TeamSide::of(self.game.side)
+    }
+
+    /// Our own estimated pose on the field.
+    pub fn pose(&self) -> Pose {
+        Pose::new(Global::from_array(self.me.position), self.me.yaw_deg)
+    }
+
     /// A global-frame point in our team's own frame (own goal at −x).
     pub fn to_own_frame(&self, p: [f64; 2]) -> [f64; 2] {
-        match self.game.side {
-            Some(Side::Right) => [-p[0], -p[1]],
-            _ => p,
-        }
+        self.side().own(Global::from_array(p)).to_array()
     }
 
     /// A global-frame heading [deg] in our team's own frame.
     pub fn yaw_to_own_frame(&self, yaw_deg: f64) -> f64 {
-        match self.game.side {
-            Some(Side::Right) => geometry::wrap_deg(yaw_deg + 180.0),
-            _ => yaw_deg,
-        }
+        self.side().own_heading_deg(yaw_deg)
     }
 
     /// The ball in the robot frame (x forwards, y left) [m]: the latest sighting when it is at
-    /// most `fresh_s` old (callers without a reason of their own use [`FRESH_BALL_SIGHTING_S`]) (straight from the camera, so a wrong self-estimate does not matter),
-    /// otherwise the field estimate seen from the self-estimate.
+    /// most `fresh_s` old (callers without a reason of their own use [`FRESH_BALL_SIGHTING_S`];
+    /// straight from the camera, so a wrong self-estimate does not matter), otherwise the field
+    /// estimate seen from the self-estimate.
     pub fn ball_relative(&self, fresh_s: f64) -> [f64; 2] {
         match self.ball_seen_relative {
             Some((t, b)) if self.time - t <= fresh_s => b,
-            _ => {
-                let [bx, by] = self.ball.position;
-                let [mx, my] = self.me.position;
-                let yaw = self.me.yaw_deg.to_radians();
-                let (dx, dy) = (bx - mx, by - my);
-                [
-                    dx * yaw.cos() + dy * yaw.sin(),
-                    -dx * yaw.sin() + dy * yaw.cos(),
-                ]
-            }
+            _ => self
+                .pose()
+                .robot(Global::from_array(self.ball.position))
+                .to_array(),
         }
     }
 

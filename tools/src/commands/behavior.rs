@@ -3,9 +3,9 @@
 use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_agent::build::default_data_dirs;
-use libero_agent::natives::vocabulary;
-use libero_behavior::{validate_paths, Report};
+use libero_behavior::Report;
 use libero_scenario::{default_scenarios_dir, is_scenario_file};
+use libero_strategy::{validate_paths, vocabulary};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -48,7 +48,7 @@ pub fn validate(args: ValidateArgs) -> CliResult {
     let mut report = if data.is_empty() {
         Report::default()
     } else {
-        validate_paths(&data, &vocabulary())
+        validate_paths(&data)
     };
     report.extend(libero_scenario::validate_files(&scenarios));
     report.sort();

@@ -6,6 +6,7 @@ mod motion;
 #[cfg(test)]
 mod tests;
 
+pub(crate) use motion::validate_frames;
 pub use motion::{Condition, GetUpBalance, GetUpParams, Keyframe, Sensed};
 
 use crate::walk::balance::Attitude;
@@ -29,13 +30,31 @@ pub struct GetUp {
 #[derive(Debug, Clone)]
 struct Run {
     motion: Motion,
-    /// The key frame being played, when it started, and the pose it starts from (the
-    /// measured angles for the first frame, the previous frame's target after that).
-    frame: usize,
-    frame_started_s: f64,
-    from: Vec<f64>,
+    head: Playhead,
+}
+
+/// Where a key-frame motion stands: the key frame being played, when it started, and the
+/// pose it starts from (the measured angles for the first frame, the previous frame's target
+/// after that). Shared by every key-frame skill (get-ups, saves).
+#[derive(Debug, Clone)]
+pub(crate) struct Playhead {
+    pub(crate) frame: usize,
+    pub(crate) frame_started_s: f64,
+    pub(crate) from: Vec<f64>,
     /// Since when the frame's `until` has held without a break.
-    held_since: Option<f64>,
+    pub(crate) held_since: Option<f64>,
+}
+
+impl Playhead {
+    /// At the first frame from `from` (usually the measured angles), now.
+    pub(crate) fn start(from: Vec<f64>, now: f64) -> Self {
+        Self {
+            frame: 0,
+            frame_started_s: now,
+            from,
+            held_since: None,
+        }
+    }
 }
 
 /// Which motion of the parameter file a run plays.
@@ -114,18 +133,15 @@ impl GetUp {
             };
             self.running = Some(Run {
                 motion: Motion::of(lying),
-                frame: 0,
-                frame_started_s: world.time,
-                from: world.body.joint_angles.clone(),
-                held_since: None,
+                head: Playhead::start(world.body.joint_angles.clone(), world.time),
             });
         }
         let run = self.running.as_mut().expect("started above");
         let motion = run.motion.frames(p);
         let sensed = Sensed::from_body(&world.body);
-        match step(run, motion, world.time, &sensed, model, pose) {
+        match step(&mut run.head, motion, world.time, &sensed, model, pose) {
             Step::Playing => {
-                if let Some(lean) = motion.get(run.frame).and_then(|f| f.balance_pitch_deg) {
+                if let Some(lean) = motion.get(run.head.frame).and_then(|f| f.balance_pitch_deg) {
                     balance(&p.balance, &sensed.attitude, lean, model, pose);
                 }
             }
@@ -159,9 +175,9 @@ impl Run {
     /// Go on with `motion` from its frame `frame`, starting from the pose reached so far.
     fn switch_to(&mut self, motion: Motion, frame: usize, now: f64) {
         self.motion = motion;
-        self.frame = frame;
-        self.frame_started_s = now;
-        self.held_since = None;
+        self.head.frame = frame;
+        self.head.frame_started_s = now;
+        self.head.held_since = None;
     }
 }
 
@@ -171,7 +187,7 @@ impl Default for GetUp {
     }
 }
 
-enum Step {
+pub(crate) enum Step {
     Playing,
     Ended,
     /// A frame's `until` did not come in time; its `on_timeout` motion, if it has one.
@@ -190,8 +206,8 @@ fn target_of(frame: &Keyframe, from: &[f64], model: &RobotModel) -> Vec<f64> {
 
 /// Advance `run` to `now` and write its pose: frames end after `duration_s`, or for a frame
 /// with `until`, once the condition has held for `hold_s` after that.
-fn step(
-    run: &mut Run,
+pub(crate) fn step(
+    run: &mut Playhead,
     motion: &[Keyframe],
     now: f64,
     sensed: &Sensed,

@@ -186,46 +186,12 @@ impl GetUpParams {
             .iter()
             .map(|(n, m)| (format!("recover.{n}"), m));
         for (name, motion) in named.into_iter().chain(recover) {
-            if motion.is_empty() {
-                return Err(format!("get_up.{name}: the motion has no key frames"));
-            }
-            for (k, frame) in motion.iter().enumerate() {
-                let at = format!("get_up.{name}[{k}]");
-                in_range(&format!("{at}.duration_s"), frame.duration_s, 0.02, 5.0)?;
-                in_range(&format!("{at}.timeout_s"), frame.timeout_s, 0.0, 5.0)?;
-                in_range(&format!("{at}.hold_s"), frame.hold_s, 0.0, 1.0)?;
-                if let Some(next) = &frame.on_timeout {
-                    if frame.until.is_none() {
-                        return Err(format!(
-                            "{at}.on_timeout: the frame has no `until` to time out on"
-                        ));
-                    }
-                    if !self.recover.contains_key(next) {
-                        let known: Vec<&str> = self.recover.keys().map(String::as_str).collect();
-                        return Err(format!(
-                            "{at}.on_timeout: no motion `{next}` in get_up.recover (it has: {})",
-                            if known.is_empty() {
-                                "none".to_string()
-                            } else {
-                                known.join(", ")
-                            }
-                        ));
-                    }
-                }
-                if let Some(c) = frame.until {
-                    c.validate(&at)?;
-                }
-                if let Some(pitch) = frame.balance_pitch_deg {
-                    in_range(&format!("{at}.balance_pitch_deg"), pitch, -90.0, 90.0)?;
-                }
-                for (joint, &angle) in &frame.pose {
-                    let id = model.joint_id(joint).ok_or_else(|| {
-                        format!("{at}.pose: `{joint}` is not a joint of {}", model.name)
-                    })?;
-                    let (lo, hi) = model.joints[id].limits_deg;
-                    in_range(&format!("{at}.pose.{joint}"), angle, lo, hi)?;
-                }
-            }
+            validate_frames(
+                &format!("get_up.{name}"),
+                motion,
+                model,
+                Some(&self.recover),
+            )?;
         }
         for (joint, g) in &self.gains {
             model.joint_id(joint).ok_or_else(|| {
@@ -254,4 +220,60 @@ impl GetUpParams {
         }
         in_range("get_up.rest_s", self.rest_s, 0.0, 3.0)
     }
+}
+
+/// Check one key-frame motion; `at` names it in errors (`get_up.front`). `recover`: the named
+/// motions an `on_timeout` may switch to (`None`: the skill has none, `on_timeout` is refused).
+pub(crate) fn validate_frames(
+    at: &str,
+    motion: &[Keyframe],
+    model: &RobotModel,
+    recover: Option<&BTreeMap<String, Vec<Keyframe>>>,
+) -> Result<(), String> {
+    if motion.is_empty() {
+        return Err(format!("{at}: the motion has no key frames"));
+    }
+    for (k, frame) in motion.iter().enumerate() {
+        let at = format!("{at}[{k}]");
+        in_range(&format!("{at}.duration_s"), frame.duration_s, 0.02, 5.0)?;
+        in_range(&format!("{at}.timeout_s"), frame.timeout_s, 0.0, 5.0)?;
+        in_range(&format!("{at}.hold_s"), frame.hold_s, 0.0, 1.0)?;
+        if let Some(next) = &frame.on_timeout {
+            if frame.until.is_none() {
+                return Err(format!(
+                    "{at}.on_timeout: the frame has no `until` to time out on"
+                ));
+            }
+            let Some(recover) = recover else {
+                return Err(format!(
+                    "{at}.on_timeout: this motion has no recovery motions to switch to"
+                ));
+            };
+            if !recover.contains_key(next) {
+                let known: Vec<&str> = recover.keys().map(String::as_str).collect();
+                return Err(format!(
+                    "{at}.on_timeout: no motion `{next}` in get_up.recover (it has: {})",
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
+                ));
+            }
+        }
+        if let Some(c) = frame.until {
+            c.validate(&at)?;
+        }
+        if let Some(pitch) = frame.balance_pitch_deg {
+            in_range(&format!("{at}.balance_pitch_deg"), pitch, -90.0, 90.0)?;
+        }
+        for (joint, &angle) in &frame.pose {
+            let id = model
+                .joint_id(joint)
+                .ok_or_else(|| format!("{at}.pose: `{joint}` is not a joint of {}", model.name))?;
+            let (lo, hi) = model.joints[id].limits_deg;
+            in_range(&format!("{at}.pose.{joint}"), angle, lo, hi)?;
+        }
+    }
+    Ok(())
 }

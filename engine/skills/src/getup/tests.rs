@@ -56,14 +56,8 @@ impl Driven {
     }
 }
 
-fn start(model: &RobotModel) -> Run {
-    Run {
-        motion: Motion::Front,
-        frame: 0,
-        frame_started_s: 0.0,
-        from: vec![0.0; model.joints.len()],
-        held_since: None,
-    }
+fn start(model: &RobotModel) -> Playhead {
+    Playhead::start(vec![0.0; model.joints.len()], 0.0)
 }
 
 fn pitched(deg: f64) -> Sensed {

@@ -18,6 +18,32 @@ pub struct KickParams {
     pub approach: KickApproach,
     pub short: KickMotion,
     pub long: KickMotion,
+    /// What `libero bench kick` measured of the long kick; decisions weigh a kick's chances
+    /// with it (the shot utility).
+    #[serde(default)]
+    pub measured: KickSpread,
+}
+
+/// The long kick's measured outcome spread.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+pub struct KickSpread {
+    /// Standard deviation of the direction error [deg].
+    pub direction_sd_deg: f64,
+    /// Mean distance the ball travels [m] ...
+    pub distance_m: f64,
+    /// ... and its standard deviation [m].
+    pub distance_sd_m: f64,
+}
+
+impl Default for KickSpread {
+    /// Unmeasured: a wide spread, so nothing is trusted that has not been measured.
+    fn default() -> Self {
+        Self {
+            direction_sd_deg: 8.0,
+            distance_m: 6.0,
+            distance_sd_m: 2.0,
+        }
+    }
 }
 
 /// Getting to the kicking place behind the ball.

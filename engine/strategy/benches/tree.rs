@@ -4,9 +4,9 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use libero_behavior::testing::ScriptedHost;
 use libero_behavior::{
-    validate_paths, Args, Host, Library, LiveLibrary, ReloadOptions, Status, TreeRunner, Value,
-    Vec2, Vocabulary,
+    Args, Host, LiveLibrary, ReloadOptions, Status, TreeRunner, Value, Vec2, Vocabulary,
 };
+use libero_strategy::{validate_paths, vocabulary, StrategyFiles};
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -49,7 +49,7 @@ fn hand_written(
     ids: &[libero_behavior::NativeId; 6],
     modes: &[Value; 2],
 ) -> Status {
-    let [fallen, mode, closest, distance, ball, walk] = *ids;
+    let [fallen, mode, closest, distance, ball, kick] = *ids;
     if host.condition(fallen, Args(&[])) {
         return Status::Running;
     }
@@ -66,13 +66,12 @@ fn hand_written(
     } else {
         Value::Vec2(Vec2::new(-5.0, 0.0))
     };
-    host.action(walk, Args(&[target, Value::Float(0.6), Value::Float(0.2)]))
+    host.action(kick, Args(&[target, Value::Float(0.0), Value::Float(4.0)]))
 }
 
 fn tick(c: &mut Criterion) {
-    let vocabulary = Vocabulary::reference();
-    let library =
-        Arc::new(Library::load(&shipped(), &vocabulary).expect("shipped files are valid"));
+    let vocabulary = vocabulary();
+    let library = Arc::new(libero_strategy::load(&shipped()).expect("shipped files are valid"));
     let mut host = BenchHost {
         ids: vocabulary.clone(),
     };
@@ -83,7 +82,7 @@ fn tick(c: &mut Criterion) {
         .last()
         .unwrap()
         .leaves()
-        .contains(&("Action WalkTo", Status::Running)));
+        .contains(&("Action KickTo", Status::Running)));
     c.bench_function("tick field player (engine)", |b| {
         b.iter(|| runner.tick(&mut host, &library))
     });
@@ -100,7 +99,7 @@ fn tick(c: &mut Criterion) {
         vocabulary.find(Query, "am_closest_to_ball").unwrap(),
         vocabulary.find(Query, "ball_distance").unwrap(),
         vocabulary.find(Query, "ball_position").unwrap(),
-        vocabulary.find(Action, "WalkTo").unwrap(),
+        vocabulary.find(Action, "KickTo").unwrap(),
     ];
     let modes = [
         Value::String("BeforeKickOff".into()),
@@ -117,11 +116,10 @@ fn tick(c: &mut Criterion) {
 }
 
 fn validate(c: &mut Criterion) {
-    let vocabulary = Vocabulary::reference();
     let paths = shipped();
-    assert_eq!(validate_paths(&paths, &vocabulary).error_count(), 0);
+    assert_eq!(validate_paths(&paths).error_count(), 0);
     c.bench_function("validate all shipped files", |b| {
-        b.iter(|| validate_paths(black_box(&paths), &vocabulary))
+        b.iter(|| validate_paths(black_box(&paths)))
     });
 }
 
@@ -144,7 +142,8 @@ fn reload(c: &mut Criterion) {
     let paths = vec![dir.path().join("behaviors"), dir.path().join("formations")];
     let live = LiveLibrary::start(
         paths,
-        Arc::new(Vocabulary::reference()),
+        Arc::new(vocabulary()),
+        Arc::new(StrategyFiles),
         ReloadOptions { debounce },
     )
     .unwrap();

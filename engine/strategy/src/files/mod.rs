@@ -3,12 +3,14 @@
 mod field;
 mod formation;
 mod params;
+mod reader;
 
 pub use field::Field;
 pub use formation::{parse_formation, Formation, Role, Sample};
 pub use params::*;
+pub use reader::StrategyFiles;
 
-use crate::value::Vec2;
+use libero_behavior::Vec2;
 use std::collections::BTreeMap;
 
 /// Every strategy file of a library, validated.
@@ -23,7 +25,9 @@ pub struct Strategy {
 
 impl Strategy {
     pub fn field(&self) -> Field {
-        self.team.as_ref().map_or_else(Field::default, |t| t.field)
+        self.team
+            .as_ref()
+            .map_or_else(Field::default, |t| t.field.clone())
     }
 
     pub fn formation(&self, name: &str) -> Option<&Formation> {

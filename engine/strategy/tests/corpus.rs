@@ -2,7 +2,8 @@
 //! and its rendered report compared with `<case>.expected`. Run with `UPDATE_SNAPSHOTS=1` to
 //! rewrite the snapshots after an intended change, then review the diff.
 
-use libero_behavior::{validate_paths, Severity, Vocabulary};
+use libero_behavior::Severity;
+use libero_strategy::validate_paths;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
@@ -33,11 +34,10 @@ fn expected_path(case: &Path) -> PathBuf {
 #[test]
 fn corpus_reports_match_snapshots() {
     let update = std::env::var_os("UPDATE_SNAPSHOTS").is_some();
-    let vocabulary = Vocabulary::reference();
     let root = corpus_root().canonicalize().unwrap();
     let mut mismatches = Vec::new();
     for case in cases() {
-        let report = validate_paths(&[case.canonicalize().unwrap()], &vocabulary);
+        let report = validate_paths(&[case.canonicalize().unwrap()]);
         assert!(
             report.error_count() + report.warning_count() > 0,
             "{} produced no diagnostics",
@@ -64,10 +64,9 @@ fn corpus_reports_match_snapshots() {
 /// Every class of error the validator knows has at least one case in the corpus.
 #[test]
 fn corpus_covers_every_error_class() {
-    let vocabulary = Vocabulary::reference();
     let mut seen = BTreeSet::new();
     for case in cases() {
-        for diagnostic in validate_paths(&[case], &vocabulary).diagnostics {
+        for diagnostic in validate_paths(&[case]).diagnostics {
             seen.insert((diagnostic.code, diagnostic.severity));
         }
     }
@@ -120,7 +119,7 @@ fn corpus_covers_every_error_class() {
 #[test]
 fn json_output_locates_errors() {
     let case = corpus_root().join("unknown_node.ron");
-    let report = validate_paths(&[case], &Vocabulary::reference());
+    let report = validate_paths(&[case]);
     let json: serde_json::Value = serde_json::from_str(&report.render_json()).unwrap();
     let first = &json["diagnostics"][0];
     assert_eq!(first["code"], "unknown-node");

@@ -3,9 +3,8 @@
 //! once, the fix runs; editors' save patterns all end in the right library.
 
 use libero_behavior::testing::ScriptedHost;
-use libero_behavior::{
-    LiveLibrary, ReloadEvent, ReloadOptions, Status, TreeRunner, Value, Vocabulary,
-};
+use libero_behavior::{LiveLibrary, ReloadEvent, ReloadOptions, Status, TreeRunner, Value};
+use libero_strategy::{vocabulary, StrategyFiles};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -30,7 +29,8 @@ fn live_copy() -> (tempfile::TempDir, Vec<PathBuf>, LiveLibrary) {
     let paths = vec![dir.path().join("behaviors"), dir.path().join("formations")];
     let live = LiveLibrary::start(
         paths.clone(),
-        Arc::new(Vocabulary::reference()),
+        Arc::new(vocabulary()),
+        Arc::new(StrategyFiles),
         ReloadOptions { debounce: DEBOUNCE },
     )
     .unwrap_or_else(|report| panic!("{}", report.render_text()));
@@ -45,7 +45,7 @@ struct Team {
 
 impl Team {
     fn new(live: &LiveLibrary) -> Self {
-        let mut host = ScriptedHost::new(&Vocabulary::reference());
+        let mut host = ScriptedHost::new(&vocabulary());
         host.queries
             .insert("play_mode".into(), Value::String("PlayOn".into()));
         let runner = TreeRunner::new(&live.current(), "FieldPlayer").unwrap();
@@ -302,7 +302,8 @@ fn broken_files_at_start_fail_with_every_error() {
     .unwrap();
     let Err(report) = LiveLibrary::start(
         vec![dir.path().to_path_buf()],
-        Arc::new(Vocabulary::reference()),
+        Arc::new(vocabulary()),
+        Arc::new(StrategyFiles),
         ReloadOptions::default(),
     ) else {
         panic!("a broken library must not start");

@@ -3,10 +3,10 @@
 //! clamped to a region per role (as in SBSP).
 
 use super::field::Field;
-use crate::decode::Decoder;
-use crate::diagnostics::did_you_mean;
-use crate::syntax::{Node, Span};
-use crate::value::Vec2;
+use libero_behavior::decode::Decoder;
+use libero_behavior::did_you_mean;
+use libero_behavior::syntax::{Node, Span};
+use libero_behavior::Vec2;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Role {
@@ -122,14 +122,15 @@ pub fn parse_formation(decoder: &mut Decoder, node: &Node) -> Option<Formation> 
         Some(n) => decoder.string(n).and_then(|name| {
             let field = Field::by_name(&name);
             if field.is_none() {
-                let hint = did_you_mean(&name, Field::ALL.iter().map(|f| f.name));
+                let hint = did_you_mean(&name, Field::names());
                 decoder
                     .error(
                         "unknown-field-kind",
                         n.span,
                         format!("unknown field `{name}`"),
                     )
-                    .hint = hint.or_else(|| Some("fields are fifa7vs7 and fifa".into()));
+                    .hint =
+                    hint.or_else(|| Some(format!("fields are {}", Field::names().join(", "))));
             }
             field
         }),
@@ -140,13 +141,13 @@ pub fn parse_formation(decoder: &mut Decoder, node: &Node) -> Option<Formation> 
     fields.finish(decoder, &["name", "field", "roles", "samples"]);
     let field = field?;
     let roles = roles_node
-        .map(|n| roles(decoder, n, field))
+        .map(|n| roles(decoder, n, &field))
         .unwrap_or_default();
     let (samples, spans) = samples_node
-        .map(|n| samples(decoder, n, field))
+        .map(|n| samples(decoder, n, &field))
         .unwrap_or_default();
     let triangles = samples_node
-        .map(|n| triangulate(decoder, n.span, &samples, &spans, field))
+        .map(|n| triangulate(decoder, n.span, &samples, &spans, &field))
         .unwrap_or_default();
     if decoder.report.error_count() > errors_before {
         return None;
@@ -160,16 +161,16 @@ pub fn parse_formation(decoder: &mut Decoder, node: &Node) -> Option<Formation> 
     })
 }
 
-fn unum(decoder: &mut Decoder, node: &Node, field: Field) -> Option<u8> {
+fn unum(decoder: &mut Decoder, node: &Node, field: &Field) -> Option<u8> {
     decoder
-        .int_in(node, 1, i64::from(field.players))
+        .int_in(node, 1, i64::from(field.players()))
         .map(|u| u as u8)
 }
 
-fn point_on_field(decoder: &mut Decoder, node: &Node, field: Field) -> Option<Vec2> {
+fn point_on_field(decoder: &mut Decoder, node: &Node, field: &Field) -> Option<Vec2> {
     let p = decoder.vec2(node)?;
     if !field.contains(p) {
-        let message = format!("({}, {}) is off the {} field", p.x, p.y, field.name);
+        let message = format!("({}, {}) is off the {} field", p.x, p.y, field.name());
         decoder.error("off-field", node.span, message).hint = Some(format!(
             "x must be within ±{}, y within ±{}",
             field.half_length(),
@@ -180,7 +181,7 @@ fn point_on_field(decoder: &mut Decoder, node: &Node, field: Field) -> Option<Ve
     Some(p)
 }
 
-fn roles(decoder: &mut Decoder, node: &Node, field: Field) -> Vec<Role> {
+fn roles(decoder: &mut Decoder, node: &Node, field: &Field) -> Vec<Role> {
     let mut roles: Vec<Role> = Vec::new();
     // Players whose role had other errors still count as present, to avoid a second error.
     let mut present: Vec<u8> = Vec::new();
@@ -231,7 +232,7 @@ fn roles(decoder: &mut Decoder, node: &Node, field: Field) -> Vec<Role> {
             }
         }
     }
-    for unum in 1..=field.players {
+    for unum in 1..=field.players() {
         if !present.contains(&unum) {
             decoder
                 .error(
@@ -241,14 +242,15 @@ fn roles(decoder: &mut Decoder, node: &Node, field: Field) -> Vec<Role> {
                 )
                 .hint = Some(format!(
                 "a {} formation needs roles for players 1 to {}",
-                field.name, field.players
+                field.name(),
+                field.players()
             ));
         }
     }
     roles
 }
 
-fn region(decoder: &mut Decoder, node: &Node, field: Field) -> Option<(Vec2, Vec2)> {
+fn region(decoder: &mut Decoder, node: &Node, field: &Field) -> Option<(Vec2, Vec2)> {
     let mut fields = decoder.fields(node, "Region")?;
     let min = fields
         .require(decoder, "min")
@@ -269,7 +271,7 @@ fn region(decoder: &mut Decoder, node: &Node, field: Field) -> Option<(Vec2, Vec
     Some((min, max))
 }
 
-fn samples(decoder: &mut Decoder, node: &Node, field: Field) -> (Vec<Sample>, Vec<Span>) {
+fn samples(decoder: &mut Decoder, node: &Node, field: &Field) -> (Vec<Sample>, Vec<Span>) {
     let (mut samples, mut spans): (Vec<Sample>, Vec<Span>) = (Vec::new(), Vec::new());
     for item in decoder.list(node).unwrap_or_default() {
         let Some(mut fields) = decoder.fields(item, "Sample") else {
@@ -304,9 +306,9 @@ fn samples(decoder: &mut Decoder, node: &Node, field: Field) -> (Vec<Sample>, Ve
     (samples, spans)
 }
 
-fn positions(decoder: &mut Decoder, node: &Node, field: Field) -> Option<Vec<Vec2>> {
+fn positions(decoder: &mut Decoder, node: &Node, field: &Field) -> Option<Vec<Vec2>> {
     let entries = decoder.map(node)?;
-    let mut positions: Vec<Option<Vec2>> = vec![None; field.players as usize];
+    let mut positions: Vec<Option<Vec2>> = vec![None; field.players() as usize];
     let mut complete = true;
     for (key, value) in entries {
         let unum = unum(decoder, key, field);
@@ -326,7 +328,7 @@ fn positions(decoder: &mut Decoder, node: &Node, field: Field) -> Option<Vec<Vec
             _ => complete = false,
         }
     }
-    let missing: Vec<String> = (1..=field.players)
+    let missing: Vec<String> = (1..=field.players())
         .filter(|u| positions[*u as usize - 1].is_none())
         .map(|u| u.to_string())
         .collect();
@@ -339,7 +341,7 @@ fn positions(decoder: &mut Decoder, node: &Node, field: Field) -> Option<Vec<Vec
             )
             .hint = Some(format!(
             "every sample places players 1 to {}",
-            field.players
+            field.players()
         ));
     }
     positions.into_iter().collect()
@@ -350,7 +352,7 @@ fn triangulate(
     span: Span,
     samples: &[Sample],
     spans: &[Span],
-    field: Field,
+    field: &Field,
 ) -> Vec<[usize; 3]> {
     if samples.len() < 3 {
         decoder

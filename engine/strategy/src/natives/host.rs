@@ -1,0 +1,95 @@
+//! One tick's view of the world for the native nodes, and the intent they fill in.
+
+use super::Natives;
+use crate::Strategy;
+use libero_behavior::Vec2;
+use libero_skills::{Intent, SkillStatus};
+use libero_world::{Global, Own, World};
+
+/// What a player's native nodes remember between cycles (a path being followed, a save in
+/// progress). Owned by the player's decider, handed to each tick.
+#[derive(Debug, Clone, Default)]
+pub struct PlayerMemory {
+    pub avoidance: crate::avoidance::Planner,
+}
+
+/// One tick's view of the world, and the intent it fills in.
+pub struct AgentHost<'a> {
+    pub world: &'a World,
+    pub strategy: &'a Strategy,
+    pub natives: &'a Natives,
+    /// The skills' state after the previous cycle.
+    pub skills: &'a SkillStatus,
+    pub memory: &'a mut PlayerMemory,
+    pub intent: &'a mut Intent,
+}
+
+/// A tree value (always own frame) as a typed own-frame point.
+pub(crate) fn own(v: Vec2) -> Own {
+    Own::new(v.x, v.y)
+}
+
+/// A typed own-frame point as a tree value.
+pub(crate) fn value(p: Own) -> Vec2 {
+    Vec2::new(p.x, p.y)
+}
+
+impl AgentHost<'_> {
+    /// A global-frame estimate in the team's own frame.
+    pub(crate) fn own_of(&self, p: [f64; 2]) -> Own {
+        self.world.side().own(Global::from_array(p))
+    }
+
+    pub(crate) fn global_of(&self, p: Own) -> Global {
+        self.world.side().global(p)
+    }
+
+    pub(crate) fn ball(&self) -> Own {
+        self.own_of(self.world.ball.position)
+    }
+
+    pub(crate) fn me(&self) -> Own {
+        self.own_of(self.world.me.position)
+    }
+
+    pub(crate) fn unum(&self) -> u8 {
+        u8::try_from(self.world.game.unum).unwrap_or(u8::MAX)
+    }
+}
+
+impl AgentHost<'_> {
+    /// What to walk round: robots seen lately, the goal posts, and the ball when given.
+    pub(crate) fn obstacles(&self, ball: Option<Own>) -> Vec<crate::avoidance::Obstacle> {
+        use crate::avoidance::Obstacle;
+        let avoidance = self.strategy.avoidance.unwrap_or_default();
+        let field = self.strategy.field();
+        let world = self.world;
+        let mut out: Vec<Obstacle> = world
+            .players
+            .known
+            .iter()
+            .filter(|p| p.age(world.time) <= avoidance.memory_s)
+            .filter(|p| {
+                !(p.relation == libero_world::Relation::Teammate && p.unum == world.game.unum)
+            })
+            .map(|p| Obstacle {
+                at: self.own_of(p.position),
+                radius: avoidance.robot_clearance_m,
+            })
+            .collect();
+        let (x, y) = (field.half_length(), field.goal_half_width());
+        for (px, py) in [(x, y), (x, -y), (-x, y), (-x, -y)] {
+            out.push(Obstacle {
+                at: Own::new(px, py),
+                radius: avoidance.post_clearance_m,
+            });
+        }
+        if let Some(ball) = ball {
+            out.push(Obstacle {
+                at: ball,
+                radius: avoidance.ball_clearance_m,
+            });
+        }
+        out
+    }
+}

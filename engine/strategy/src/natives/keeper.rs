@@ -1,0 +1,204 @@
+//! The goalkeeper's nodes: the defense point, shots on goal and saves, clearing the ball
+//! (`formations/goalkeeper.ron`, logic in `crate::goalkeeper`).
+
+use super::host::value;
+use super::{AgentHost, Native, Ports};
+use crate::goalkeeper::{Save, Shot};
+use libero_behavior::{NodeSpec, Status, Value, ValueType};
+use libero_skills::save::{DiveSide, SaveState};
+use libero_skills::BodyIntent;
+use libero_world::{Global, Own, Relation};
+
+pub(super) const NODES: &[Native] = &[
+    Native::query(defense_point_ports, defense_point),
+    Native::condition(shot_on_goal_ports, shot_on_goal),
+    Native::action(defend_goal_ports, defend_goal),
+    Native::action(save_shot_ports, save_shot),
+    Native::condition(should_clear_ball_ports, should_clear_ball),
+    Native::query(clear_target_ports, clear_target),
+];
+
+fn defense_point_ports() -> NodeSpec {
+    NodeSpec::query(
+        "defense_point",
+        ValueType::Vec2,
+        "Where the keeper stands to cover the goal for the ball's position (m, own frame; formations/goalkeeper.ron).",
+    )
+}
+
+fn defense_point(host: &AgentHost, _: &Ports) -> Value {
+    Value::Vec2(value(host.defense_point()))
+}
+
+fn shot_on_goal_ports() -> NodeSpec {
+    NodeSpec::condition(
+        "ShotOnGoal",
+        "True when the ball prediction has the ball crossing our goal line between the posts (with the file's margin) at shot speed.",
+    )
+}
+
+fn shot_on_goal(host: &AgentHost, _: &Ports) -> bool {
+    host.shot_on_goal().is_some()
+}
+
+fn defend_goal_ports() -> NodeSpec {
+    NodeSpec::action(
+        "DefendGoal",
+        "Walks to the defense point (the walk stops there by itself) facing the ball, the head on the ball while it is known; runs until halted.",
+    )
+}
+
+fn defend_goal(host: &mut AgentHost, _: &Ports) -> Status {
+    let point = host.defense_point();
+    let ball = host.ball();
+    host.walk_to(point, Some(ball), f64::INFINITY, 0.0);
+    if host.world.ball.age(host.world.time) < 3.0 {
+        host.look_at_ball();
+    } else {
+        host.look_for_ball_now();
+    }
+    Status::Running
+}
+
+fn save_shot_ports() -> NodeSpec {
+    NodeSpec::action(
+        "SaveShot",
+        "Meets a shot on goal: walks to where the ball crosses the keeper's line, blocks a ball coming at it, dives to its side when walking is too slow (the save motions in the skill parameters). Succeeds once no shot is coming or the save motion has played out.",
+    )
+}
+
+fn save_shot(host: &mut AgentHost, _: &Ports) -> Status {
+    match host.skills.save {
+        // The motion plays to its end whatever is asked; keep asking for it meanwhile.
+        SaveState::Diving(side) => {
+            host.intent.body = BodyIntent::Dive { side };
+            return Status::Running;
+        }
+        // Played out: stop asking, so the get-up follows.
+        SaveState::Done(_) => return Status::Success,
+        SaveState::Idle => {}
+    }
+    let Some(shot) = host.shot_on_goal() else {
+        return Status::Success;
+    };
+    let keeper = host.goalkeeper();
+    let ball = host.ball();
+    match keeper.save(host.me(), &shot) {
+        Save::Walk(point) => host.walk_towards(point, Some(ball), f64::INFINITY),
+        Save::Block => {
+            host.intent.body = BodyIntent::Dive {
+                side: DiveSide::Centre,
+            }
+        }
+        Save::Dive { .. } => {
+            // Which way is the robot's own: the crossing point seen from the keeper.
+            let crossing = host.world.pose().robot(host.global_of(shot.at_keeper_line));
+            let side = if crossing.y >= 0.0 {
+                DiveSide::Left
+            } else {
+                DiveSide::Right
+            };
+            host.intent.body = BodyIntent::Dive { side };
+        }
+    }
+    host.look_at_ball();
+    Status::Running
+}
+
+fn should_clear_ball_ports() -> NodeSpec {
+    NodeSpec::condition(
+        "ShouldClearBall",
+        "True when the ball lies within the file's distance of our goal and we reach it sooner than any opponent by the file's margin (the world model's interception estimates).",
+    )
+}
+
+fn should_clear_ball(host: &AgentHost, _: &Ports) -> bool {
+    let keeper = host.goalkeeper();
+    let world = host.world;
+    if world.ball.age(world.time) > 2.0 {
+        return false;
+    }
+    let speed = keeper.walk_speed_m_s;
+    let reach = 0.3;
+    let ours = world
+        .ball
+        .interception(world.me.position, speed, reach)
+        .map(|(t, _)| t);
+    let theirs = world
+        .players
+        .of(Relation::Opponent)
+        .filter(|p| !p.fallen && p.age(world.time) < 3.0)
+        .filter_map(|p| {
+            world
+                .ball
+                .interception(p.position, speed, reach)
+                .map(|(t, _)| t)
+        })
+        .reduce(f64::min);
+    keeper.should_clear(host.ball(), &host.strategy.field(), ours, theirs)
+}
+
+fn clear_target_ports() -> NodeSpec {
+    NodeSpec::query(
+        "clear_target",
+        ValueType::Vec2,
+        "Where the keeper clears the ball to: up the field, away from the middle (m, own frame).",
+    )
+}
+
+fn clear_target(host: &AgentHost, _: &Ports) -> Value {
+    let ball = host.ball();
+    let field = host.strategy.field();
+    let side = if ball.y >= 0.0 { 1.0 } else { -1.0 };
+    let target = Own::new(ball.x + 12.0, side * field.half_width() * 0.6);
+    Value::Vec2(value(target))
+}
+
+impl AgentHost<'_> {
+    pub(crate) fn goalkeeper(&self) -> crate::GoalkeeperParams {
+        self.strategy.goalkeeper.unwrap_or_default()
+    }
+
+    pub(crate) fn defense_point(&self) -> Own {
+        self.goalkeeper()
+            .defense_point(self.ball(), &self.strategy.field())
+    }
+
+    pub(crate) fn look_for_ball_now(&mut self) {
+        self.intent.head = libero_skills::HeadIntent::LookAround {
+            amplitude_deg: None,
+            period_s: None,
+        };
+    }
+
+    /// The shot coming at our goal, if any: where it crosses the keeper's line (parallel to
+    /// the goal line through the keeper) and when.
+    pub(crate) fn shot_on_goal(&self) -> Option<Shot> {
+        let world = self.world;
+        let keeper = self.goalkeeper();
+        let ball = &world.ball;
+        let [vx, vy] = ball.velocity;
+        if ball.age(world.time) > 0.5 || vx.hypot(vy) < keeper.shot_min_speed_m_s {
+            return None;
+        }
+        let field = self.strategy.field();
+        let side = world.side();
+        // Lines parallel to the goal line (own y axis) in the global frame.
+        let along = side.global(Own::new(0.0, 1.0));
+        let crossing = |x: f64| {
+            let point = side.global(Own::new(x, 0.0));
+            ball.line_crossing(point.to_array(), along.to_array())
+                .map(|(t, p)| (t, side.own(Global::from_array(p))))
+        };
+        let (_, at_goal) = crossing(-field.half_length())?;
+        if !keeper.on_target(at_goal.y, &field) {
+            return None;
+        }
+        let me = self.me();
+        let (t, at_keeper_line) = crossing(me.x.max(-field.half_length()))?;
+        Some(Shot {
+            at_keeper_line,
+            at_keeper_line_s: t,
+        })
+    }
+}

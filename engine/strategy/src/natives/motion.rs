@@ -1,0 +1,274 @@
+//! Moving the robot: beaming, standing, looking, walking to a point round obstacles, kicking.
+
+use super::host::own;
+use super::{AgentHost, Native, Ports};
+use libero_behavior::{NodeSpec, ParamSpec, Status, Value, ValueType};
+use libero_skills::kick::KickState;
+use libero_skills::{BodyIntent, HeadIntent};
+use libero_world::{Own, Posture};
+
+pub(super) const NODES: &[Native] = &[
+    Native::action(beam_to_formation_ports, beam_to_formation),
+    Native::action(stand_ports, stand),
+    Native::action(look_around_ports, look_around),
+    Native::action(walk_to_ports, walk_to),
+    Native::action(kick_to_ports, kick_to),
+];
+
+fn beam_to_formation_ports() -> NodeSpec {
+    NodeSpec::action(
+        "BeamToFormation",
+        "Beams to this player's kick-off formation position; succeeds when placed.",
+    )
+}
+
+fn beam_to_formation(host: &mut AgentHost, _: &Ports) -> Status {
+    let p = host
+        .strategy
+        .position(
+            host.situation(),
+            host.unum(),
+            libero_behavior::Vec2::new(0.0, 0.0),
+        )
+        .map(own)
+        .unwrap_or_else(|| host.me());
+    host.intent.beam = Some([p.x, p.y, 0.0]);
+    // Until the server has told us our side (SimSpark: after `init` took effect) a beam is not
+    // sent; keep asking.
+    if host.world.game.side.is_some() {
+        Status::Success
+    } else {
+        Status::Running
+    }
+}
+
+fn stand_ports() -> NodeSpec {
+    NodeSpec::action(
+        "Stand",
+        "Holds the standing pose (getting up first if fallen); succeeds when stable.",
+    )
+}
+
+fn stand(host: &mut AgentHost, _: &Ports) -> Status {
+    host.intent.body = if host.world.body.posture == Posture::Upright {
+        BodyIntent::Stand
+    } else {
+        BodyIntent::GetUp
+    };
+    Status::Running
+}
+
+fn look_around_ports() -> NodeSpec {
+    NodeSpec::action(
+        "LookAround",
+        "Pans the head to scan the field; runs until halted.",
+    )
+    .param(
+        ParamSpec::new("amplitude", ValueType::Float)
+            .unit("rad")
+            .range(0.0, 2.0)
+            .default(Value::Float(1.2))
+            .doc("pan half-range"),
+    )
+    .param(
+        ParamSpec::new("period", ValueType::Float)
+            .unit("s")
+            .range(0.2, 20.0)
+            .default(Value::Float(4.0))
+            .doc("time for a full sweep"),
+    )
+}
+
+fn look_around(host: &mut AgentHost, ports: &Ports) -> Status {
+    host.intent.head = HeadIntent::LookAround {
+        amplitude_deg: Some(ports.float("amplitude").to_degrees()),
+        period_s: Some(ports.float("period")),
+    };
+    Status::Running
+}
+
+fn walk_to_ports() -> NodeSpec {
+    NodeSpec::action(
+        "WalkTo",
+        "Walks to a field point round the robots and goal posts in the way (a detour beside the first one, a grid path when the detour is blocked: formations/avoidance.ron); succeeds within `tolerance`.",
+    )
+    .param(
+        ParamSpec::new("target", ValueType::Vec2)
+            .unit("m")
+            .doc("destination, own frame"),
+    )
+    .param(
+        ParamSpec::new("speed", ValueType::Float)
+            .unit("m/s")
+            .range(0.0, 2.0)
+            .default(Value::Float(0.6))
+            .doc("walking speed"),
+    )
+    .param(
+        ParamSpec::new("tolerance", ValueType::Float)
+            .unit("m")
+            .range(0.05, 5.0)
+            .default(Value::Float(0.3))
+            .doc("arrival radius"),
+    )
+}
+
+fn walk_to(host: &mut AgentHost, ports: &Ports) -> Status {
+    let target = own(ports.vec2("target"));
+    host.walk_to(target, None, ports.float("speed"), ports.float("tolerance"))
+}
+
+fn kick_to_ports() -> NodeSpec {
+    NodeSpec::action(
+        "KickTo",
+        "Kicks the ball towards a field point: walks round obstacles (never through the ball) to a point behind the ball on the kick line, then the kick skill takes its kicking place and kicks (short or long by distance). Succeeds once the kick skill reports the kick done; fails when the ball has not been seen for `lost_after` seconds.",
+    )
+    .param(
+        ParamSpec::new("target", ValueType::Vec2)
+            .unit("m")
+            .doc("where the ball should go, own frame"),
+    )
+    .param(
+        ParamSpec::new("distance", ValueType::Float)
+            .unit("m")
+            .range(0.0, 40.0)
+            .default(Value::Float(0.0))
+            .doc("how far to kick; 0 = as far as the target"),
+    )
+    .param(
+        ParamSpec::new("lost_after", ValueType::Float)
+            .unit("s")
+            .range(0.5, 30.0)
+            .default(Value::Float(4.0))
+            .doc("give up when the ball is unseen this long"),
+    )
+}
+
+fn kick_to(host: &mut AgentHost, ports: &Ports) -> Status {
+    host.kick_to(
+        own(ports.vec2("target")),
+        ports.float("distance"),
+        ports.float("lost_after"),
+    )
+}
+
+impl AgentHost<'_> {
+    fn look_for_ball(&mut self) {
+        self.intent.head = HeadIntent::LookAround {
+            amplitude_deg: None,
+            period_s: None,
+        };
+    }
+
+    /// Walks towards `target` (own frame) round obstacles; `face` is the point to face on
+    /// arrival (else the walking direction). Succeeds within `tolerance`.
+    pub(crate) fn walk_to(
+        &mut self,
+        target: Own,
+        face: Option<Own>,
+        max_speed: f64,
+        tolerance: f64,
+    ) -> Status {
+        if !self.world.me.localized {
+            self.look_for_ball();
+            return Status::Running;
+        }
+        let me = self.me();
+        if me.distance(target) <= tolerance {
+            return Status::Success;
+        }
+        let obstacles = self.obstacles(None);
+        let avoidance = self.strategy.avoidance.unwrap_or_default();
+        let field = self.strategy.field();
+        let waypoint = self.memory.avoidance.next_waypoint(
+            &avoidance,
+            &field,
+            me,
+            target,
+            &obstacles,
+            self.world.time,
+        );
+        self.walk_towards(
+            waypoint,
+            if waypoint == target { face } else { None },
+            max_speed,
+        );
+        Status::Running
+    }
+
+    /// One cycle's walk intent towards an own-frame point, facing `face` (or the point itself).
+    pub(crate) fn walk_towards(&mut self, point: Own, face: Option<Own>, max_speed: f64) {
+        let pose = self.world.pose();
+        let relative = pose.robot(self.global_of(point));
+        let heading_deg = match face {
+            Some(f) => {
+                let f = pose.robot(self.global_of(f));
+                f.y.atan2(f.x).to_degrees()
+            }
+            None => relative.y.atan2(relative.x).to_degrees(),
+        };
+        self.intent.body = BodyIntent::WalkTo {
+            target: relative.to_array(),
+            heading_deg,
+            max_speed_m_s: Some(max_speed),
+        };
+    }
+
+    pub(crate) fn kick_to(&mut self, target: Own, distance: f64, lost_after: f64) -> Status {
+        let world = self.world;
+        let ball_age = world.ball.age(world.time);
+        if !world.me.localized || ball_age > 0.5 {
+            self.look_for_ball();
+            return if ball_age > lost_after {
+                Status::Failure
+            } else {
+                Status::Running
+            };
+        }
+        // The kick skill reports `Done` until it is asked for something else: succeed and ask
+        // for nothing, so the next kick starts afresh.
+        if self.skills.kick == KickState::Done {
+            return Status::Success;
+        }
+        let ball = self.ball();
+        let me = self.me();
+        let direction = ball.bearing_to(target);
+        let avoidance = self.strategy.avoidance.unwrap_or_default();
+        // Far from the ball (and not yet kicking), walk round obstacles, the ball among them, to
+        // a point behind it on the kick line; there the kick skill's own approach takes over.
+        if self.skills.kick == KickState::Idle && me.distance(ball) > avoidance.handover_m {
+            let behind =
+                ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
+            let obstacles = self.obstacles(Some(ball));
+            let field = self.strategy.field();
+            let waypoint = self
+                .memory
+                .avoidance
+                .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
+            self.walk_towards(waypoint, Some(ball), f64::INFINITY);
+            self.look_at_ball();
+            return Status::Running;
+        }
+        let heading = self
+            .world
+            .pose()
+            .relative_angle(self.global_of(ball).bearing_to(self.global_of(target)));
+        let to_target = ball.distance(target);
+        self.intent.body = BodyIntent::Kick {
+            // Straight from the camera when fresh: the kick places the foot relative to the ball.
+            ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
+            direction_deg: heading.to_degrees(),
+            distance_m: if distance > 0.0 { distance } else { to_target },
+        };
+        Status::Running
+    }
+
+    /// Points the head at the ball's estimate.
+    pub(crate) fn look_at_ball(&mut self) {
+        self.intent.head = HeadIntent::LookAt {
+            target: self
+                .world
+                .ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
+        };
+    }
+}

@@ -1,0 +1,114 @@
+//! World queries: where things are, in the team's own frame.
+
+use super::host::value;
+use super::{AgentHost, Native, Ports};
+use libero_behavior::{NodeSpec, Value, ValueType};
+use libero_world::Relation;
+
+pub(super) const NODES: &[Native] = &[
+    Native::query(opponent_goal_ports, opponent_goal),
+    Native::query(ball_position_ports, ball_position),
+    Native::query(ball_distance_ports, ball_distance),
+    Native::query(my_position_ports, my_position),
+    Native::query(formation_position_ports, formation_position),
+    Native::query(play_time_ports, play_time),
+    Native::query(am_closest_to_ball_ports, am_closest_to_ball),
+];
+
+fn opponent_goal_ports() -> NodeSpec {
+    NodeSpec::query(
+        "opponent_goal",
+        ValueType::Vec2,
+        "Centre of the opponent's goal line (m, own frame), from the team file's field.",
+    )
+}
+
+fn opponent_goal(host: &AgentHost, _: &Ports) -> Value {
+    Value::Vec2(host.strategy.field().opponent_goal())
+}
+
+fn ball_position_ports() -> NodeSpec {
+    NodeSpec::query(
+        "ball_position",
+        ValueType::Vec2,
+        "Estimated ball position (m, own frame).",
+    )
+}
+
+fn ball_position(host: &AgentHost, _: &Ports) -> Value {
+    Value::Vec2(value(host.ball()))
+}
+
+fn ball_distance_ports() -> NodeSpec {
+    NodeSpec::query(
+        "ball_distance",
+        ValueType::Float,
+        "Distance from the robot to the ball (m).",
+    )
+}
+
+fn ball_distance(host: &AgentHost, _: &Ports) -> Value {
+    Value::Float(host.ball().distance(host.me()))
+}
+
+fn my_position_ports() -> NodeSpec {
+    NodeSpec::query(
+        "my_position",
+        ValueType::Vec2,
+        "Estimated robot position (m, own frame).",
+    )
+}
+
+fn my_position(host: &AgentHost, _: &Ports) -> Value {
+    Value::Vec2(value(host.me()))
+}
+
+fn formation_position_ports() -> NodeSpec {
+    NodeSpec::query(
+        "formation_position",
+        ValueType::Vec2,
+        "This player's formation position for the situation and ball (m, own frame).",
+    )
+}
+
+fn formation_position(host: &AgentHost, _: &Ports) -> Value {
+    let position = host
+        .strategy
+        .position(host.situation(), host.unum(), value(host.ball()))
+        .unwrap_or_else(|| value(host.me()));
+    Value::Vec2(position)
+}
+
+fn play_time_ports() -> NodeSpec {
+    NodeSpec::query(
+        "play_time",
+        ValueType::Float,
+        "Seconds since kick-off of the half.",
+    )
+}
+
+fn play_time(host: &AgentHost, _: &Ports) -> Value {
+    Value::Float(host.world.game.play_time)
+}
+
+fn am_closest_to_ball_ports() -> NodeSpec {
+    NodeSpec::query(
+        "am_closest_to_ball",
+        ValueType::Bool,
+        "True when no upright teammate seen in the last 2 s is closer to the ball.",
+    )
+}
+
+fn am_closest_to_ball(host: &AgentHost, _: &Ports) -> Value {
+    let world = host.world;
+    let ball = world.ball.position;
+    let dist = |p: [f64; 2]| (p[0] - ball[0]).hypot(p[1] - ball[1]);
+    let mine = dist(world.me.position);
+    Value::Bool(
+        world
+            .players
+            .of(Relation::Teammate)
+            .filter(|p| !p.fallen && p.age(world.time) < 2.0)
+            .all(|p| dist(p.position) >= mine),
+    )
+}

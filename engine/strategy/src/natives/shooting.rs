@@ -1,0 +1,88 @@
+//! Shooting: the best target across the goal mouth and its scoring chance
+//! (`formations/shot.ron`, logic in `crate::shot`).
+
+use super::host::value;
+use super::{AgentHost, Native, Ports};
+use crate::shot::{Defenders, ShotChoice};
+use libero_behavior::{NodeSpec, Value, ValueType};
+use libero_world::{Own, Relation};
+
+pub(super) const NODES: &[Native] = &[
+    Native::query(best_shot_ports, best_shot),
+    Native::query(shot_utility_ports, shot_utility),
+    Native::condition(shot_is_good_ports, shot_is_good),
+];
+
+fn best_shot_ports() -> NodeSpec {
+    NodeSpec::query(
+        "best_shot",
+        ValueType::Vec2,
+        "The target across the opponents' goal mouth with the best chance of scoring from the ball's position (m, own frame; formations/shot.ron).",
+    )
+}
+
+fn best_shot(host: &AgentHost, _: &Ports) -> Value {
+    Value::Vec2(value(host.best_shot().target))
+}
+
+fn shot_utility_ports() -> NodeSpec {
+    NodeSpec::query(
+        "shot_utility",
+        ValueType::Float,
+        "The probability that a long kick at `best_shot` scores: the kick's measured spread, the keeper's reach, opponents near the line.",
+    )
+}
+
+fn shot_utility(host: &AgentHost, _: &Ports) -> Value {
+    Value::Float(host.best_shot().probability)
+}
+
+fn shot_is_good_ports() -> NodeSpec {
+    NodeSpec::condition(
+        "ShotIsGood",
+        "True when `shot_utility` reaches the threshold in formations/shot.ron.",
+    )
+}
+
+fn shot_is_good(host: &AgentHost, _: &Ports) -> bool {
+    let params = host.strategy.shot.unwrap_or_default();
+    host.best_shot().probability >= params.threshold
+}
+
+impl AgentHost<'_> {
+    /// The opponents that stand in the way of a shot at their goal: the one nearest their goal
+    /// inside its area counts as the keeper; unseen for 3 s, they are forgotten.
+    fn defenders(&self) -> Defenders {
+        let field = self.strategy.field();
+        let goal = Own::new(field.half_length(), 0.0);
+        let (depth, half_width) = field.goal_area();
+        let mut opponents: Vec<Own> = self
+            .world
+            .players
+            .of(Relation::Opponent)
+            .filter(|p| !p.fallen && p.age(self.world.time) < 3.0)
+            .map(|p| self.own_of(p.position))
+            .collect();
+        let keeper = opponents
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.x >= goal.x - depth && p.y.abs() <= half_width)
+            .min_by(|(_, a), (_, b)| a.distance(goal).total_cmp(&b.distance(goal)))
+            .map(|(i, _)| i);
+        let keeper = keeper.map(|i| opponents.swap_remove(i));
+        Defenders {
+            keeper,
+            field_players: opponents,
+        }
+    }
+
+    pub(crate) fn best_shot(&self) -> ShotChoice {
+        let params = self.strategy.shot.unwrap_or_default();
+        params.best(
+            self.ball(),
+            &self.strategy.field(),
+            &self.skills.kick_spread,
+            &self.defenders(),
+        )
+    }
+}

@@ -1,0 +1,167 @@
+//! Shot utility (thesis 6.3): for target points across the goal mouth, the probability that a
+//! long kick aimed there scores, from the kick's measured spread (direction and distance, in the
+//! skill parameters), the keeper's reach and the opponents near the line. Numbers in
+//! `formations/shot.ron`. Own frame: the opponents' goal is at +x.
+
+use crate::files::Field;
+use libero_skills::kick::KickSpread;
+use libero_world::Own;
+
+/// `formations/shot.ron`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShotParams {
+    /// Target points sampled across the goal mouth.
+    pub targets: usize,
+    /// The outermost targets lie this far inside the posts [m].
+    pub post_margin_m: f64,
+    /// No shot from farther than this [m].
+    pub max_distance_m: f64,
+    /// Mean ball speed over a shot, for how long the keeper has to react [m/s].
+    pub ball_speed_m_s: f64,
+    /// The keeper covers this far either side of itself at once [m] ...
+    pub keeper_reach_m: f64,
+    /// ... and this much more per second of the ball's travel [m/s].
+    pub keeper_speed_m_s: f64,
+    /// A field player blocks a ball passing within this of it [m].
+    pub block_radius_m: f64,
+    /// Shoot when the best target's scoring probability reaches this.
+    pub threshold: f64,
+}
+
+impl Default for ShotParams {
+    fn default() -> Self {
+        Self {
+            targets: 9,
+            post_margin_m: 0.3,
+            max_distance_m: 14.0,
+            ball_speed_m_s: 4.0,
+            keeper_reach_m: 0.5,
+            keeper_speed_m_s: 0.6,
+            block_radius_m: 0.35,
+            threshold: 0.3,
+        }
+    }
+}
+
+/// Who stands in the way of a shot.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Defenders {
+    pub keeper: Option<Own>,
+    pub field_players: Vec<Own>,
+}
+
+/// A target and its scoring probability.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShotChoice {
+    pub target: Own,
+    pub probability: f64,
+}
+
+/// Standard normal cumulative distribution.
+fn phi(z: f64) -> f64 {
+    0.5 * (1.0 + libm::erf(z / std::f64::consts::SQRT_2))
+}
+
+/// Probability that a normal error of spread `sd` around `mean` falls within [lo, hi].
+fn within(mean: f64, sd: f64, lo: f64, hi: f64) -> f64 {
+    if sd < 1e-9 {
+        return if (lo..=hi).contains(&mean) { 1.0 } else { 0.0 };
+    }
+    (phi((hi - mean) / sd) - phi((lo - mean) / sd)).clamp(0.0, 1.0)
+}
+
+impl ShotParams {
+    /// The target points, from one post to the other (own frame, on the goal line).
+    pub fn targets(&self, field: &Field) -> Vec<Own> {
+        let x = field.half_length();
+        let half = (field.goal_half_width() - self.post_margin_m).max(0.0);
+        let n = self.targets.max(1);
+        if n == 1 {
+            return vec![Own::new(x, 0.0)];
+        }
+        (0..n)
+            .map(|i| Own::new(x, -half + 2.0 * half * i as f64 / (n - 1) as f64))
+            .collect()
+    }
+
+    /// The probability that a long kick from `ball` aimed at `target` scores.
+    pub fn probability(
+        &self,
+        ball: Own,
+        target: Own,
+        field: &Field,
+        kick: &KickSpread,
+        defenders: &Defenders,
+    ) -> f64 {
+        let distance = ball.distance(target);
+        if distance > self.max_distance_m || distance < 1e-6 || target.x <= ball.x {
+            return 0.0;
+        }
+        let sigma = kick.direction_sd_deg.to_radians();
+        let along = (target - ball).scaled(1.0 / distance);
+        // Lateral position (perpendicular to the shot line) and its spread where the ball
+        // passes a point at distance s along the line.
+        let lateral = |p: Own| {
+            let d = p - ball;
+            let s = d.x * along.x + d.y * along.y;
+            let off = -d.x * along.y + d.y * along.x;
+            (s, off)
+        };
+        let reaches = phi((kick.distance_m - distance) / kick.distance_sd_m.max(1e-3));
+        let half_goal = field.goal_half_width();
+        // Between the posts: the direction error moves the crossing along the goal line.
+        let inside = within(
+            target.y,
+            distance * sigma.tan() / along.x.max(0.1),
+            -half_goal,
+            half_goal,
+        );
+        let passes = |at: Own, reach: f64| {
+            let (s, off) = lateral(at);
+            if s <= 0.0 || s > distance + 0.5 {
+                return 1.0;
+            }
+            1.0 - within(0.0, s * sigma.tan(), off - reach, off + reach)
+        };
+        let keeper = defenders.keeper.map_or(1.0, |k| {
+            let (s, _) = lateral(k);
+            let travel_s = s.max(0.0) / self.ball_speed_m_s;
+            passes(k, self.keeper_reach_m + self.keeper_speed_m_s * travel_s)
+        });
+        let blockers: f64 = defenders
+            .field_players
+            .iter()
+            .map(|p| passes(*p, self.block_radius_m))
+            .product();
+        reaches * inside * keeper * blockers
+    }
+
+    /// The best target across the goal mouth.
+    pub fn best(
+        &self,
+        ball: Own,
+        field: &Field,
+        kick: &KickSpread,
+        defenders: &Defenders,
+    ) -> ShotChoice {
+        self.targets(field)
+            .into_iter()
+            .map(|target| ShotChoice {
+                target,
+                probability: self.probability(ball, target, field, kick, defenders),
+            })
+            .max_by(|a, b| {
+                a.probability
+                    .total_cmp(&b.probability)
+                    // Equal chances: the target nearer the middle.
+                    .then(b.target.y.abs().total_cmp(&a.target.y.abs()))
+            })
+            .unwrap_or(ShotChoice {
+                target: Own::new(field.half_length(), 0.0),
+                probability: 0.0,
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,227 @@
+//! The shipped `behaviors/` and `formations/` validate cleanly and, ticked with the real native
+//! nodes over a world built by hand, ask the skills for what the files say: these fail when a
+//! shipped tree, a strategy file or a node breaks.
+
+use libero_behavior::TreeRunner;
+use libero_model::RobotModel;
+use libero_skills::{BodyIntent, Intent, SkillStatus};
+use libero_strategy::{strategy_of, AgentHost, Natives, PlayerMemory, Situation};
+use libero_world::{Global, Own, PlayMode, Side, World};
+use nalgebra::Vector3;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+fn shipped() -> Vec<PathBuf> {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    vec![root.join("behaviors"), root.join("formations")]
+}
+
+fn library() -> Arc<libero_behavior::Library> {
+    Arc::new(
+        libero_strategy::load(&shipped())
+            .unwrap_or_else(|report| panic!("{}", report.render_text())),
+    )
+}
+
+/// A localized robot of the right team (own frame = global turned 180°) at an own-frame point,
+/// facing the opponents' goal, with the ball seen at an own-frame point.
+fn world(unum: u32, me: Own, ball: Own, mode: PlayMode) -> World {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut world = World::new(&model, "Libero", unum);
+    world.game.side = Some(Side::Right);
+    world.game.unum = unum;
+    world.game.play_mode = mode;
+    world.time = 10.0;
+    world.me.localized = true;
+    let side = world.side();
+    world.me.position = side.global(me).to_array();
+    world.me.yaw_deg = 180.0;
+    let b = side.global(ball);
+    world
+        .ball
+        .update(world.time, Some(Vector3::new(b.x, b.y, 0.11)));
+    world
+}
+
+/// One tick of `tree` with the real nodes; the intent it produced.
+fn tick(tree: &str, world: &World, memory: &mut PlayerMemory) -> Intent {
+    let library = library();
+    let mut runner = TreeRunner::new(&library, tree).unwrap();
+    let natives = Natives::new();
+    let skills = SkillStatus {
+        kick_spread: libero_skills::kick::KickSpread {
+            direction_sd_deg: 2.6,
+            distance_m: 11.1,
+            distance_sd_m: 1.3,
+        },
+        ..SkillStatus::default()
+    };
+    let mut intent = Intent::default();
+    let mut host = AgentHost {
+        world,
+        strategy: strategy_of(&library),
+        natives: &natives,
+        skills: &skills,
+        memory,
+        intent: &mut intent,
+    };
+    runner.tick(&mut host, &library);
+    intent
+}
+
+/// A robot-frame point of the intent back in the own frame.
+fn own_of(world: &World, robot: [f64; 2]) -> Own {
+    let g = world.pose().global(libero_world::Robot::from_array(robot));
+    world.side().own(Global::new(g.x, g.y))
+}
+
+#[test]
+fn shipped_files_have_no_errors_or_warnings() {
+    let report = libero_strategy::validate_paths(&shipped());
+    assert_eq!(report.diagnostics.len(), 0, "{}", report.render_text());
+}
+
+#[test]
+fn team_file_assigns_roots_and_formations_on_its_field() {
+    let library = library();
+    let strategy = strategy_of(&library);
+    assert_eq!(strategy.tree_for(1), Some("Goalkeeper"));
+    assert_eq!(strategy.tree_for(5), Some("FieldPlayer"));
+    let field = strategy.field();
+    assert_eq!(field.name(), "fifa7vs7");
+    assert!(
+        (field.goal_half_width() - 1.83).abs() < 1e-9,
+        "the one field model"
+    );
+    for situation in Situation::ALL {
+        let formation = strategy.formation_for(situation).unwrap();
+        for unum in 1..=7 {
+            for ball in [(0.0, 0.0), (20.0, -15.0), (-27.5, 18.0), (60.0, 0.0)] {
+                let p = formation
+                    .position(unum, libero_behavior::Vec2::new(ball.0, ball.1))
+                    .expect("every player has a position");
+                assert!(field.contains(p), "{situation:?} {unum} {ball:?} -> {p:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn field_player_beams_to_its_kick_off_position_before_kick_off() {
+    let library = library();
+    let strategy = strategy_of(&library);
+    let w = world(
+        4,
+        Own::new(-5.0, 3.0),
+        Own::new(0.0, 0.0),
+        PlayMode::BeforeKickOff,
+    );
+    let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
+    let expected = strategy
+        .position(
+            Situation::KickOffTheirs,
+            4,
+            libero_behavior::Vec2::new(0.0, 0.0),
+        )
+        .unwrap();
+    let [x, y, _] = intent.beam.expect("a beam");
+    assert!((x - expected.x).abs() < 1e-9 && (y - expected.y).abs() < 1e-9);
+}
+
+#[test]
+fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on() {
+    // 8 m out in front of an empty goal: the shot's chance clears the threshold.
+    let w = world(
+        5,
+        Own::new(18.0, 1.0),
+        Own::new(19.0, 1.0),
+        PlayMode::PlayOn,
+    );
+    let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
+    let BodyIntent::Kick {
+        direction_deg,
+        distance_m,
+        ..
+    } = intent.body
+    else {
+        panic!("no kick: {:?}", intent.body)
+    };
+    // Facing the goal; the kick line must cross the goal line between the posts.
+    let crossing_y = 1.0 + 8.5 * direction_deg.to_radians().tan();
+    assert!(crossing_y.abs() < 1.83, "aims at y = {crossing_y:.2}");
+    assert!(distance_m > 7.0, "a long kick: {distance_m}");
+
+    // 30 m out the shot has no chance: a short push towards the goal.
+    let w = world(
+        5,
+        Own::new(-4.0, 0.0),
+        Own::new(-3.0, 0.0),
+        PlayMode::PlayOn,
+    );
+    let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
+    let BodyIntent::Kick { distance_m, .. } = intent.body else {
+        panic!("no kick: {:?}", intent.body)
+    };
+    assert!((distance_m - 3.0).abs() < 1e-9, "{distance_m}");
+}
+
+#[test]
+fn goalkeeper_walks_to_the_defense_point_of_goalkeeper_ron_facing_the_ball() {
+    let library = library();
+    let strategy = strategy_of(&library);
+    let ball = Own::new(-15.0, 6.0);
+    let w = world(1, Own::new(-27.0, -1.0), ball, PlayMode::PlayOn);
+    let point = strategy
+        .goalkeeper
+        .unwrap()
+        .defense_point(ball, &strategy.field());
+    // Between the goal and the ball, on the ball's side, inside the goal area.
+    assert!(
+        point.x > -27.5 && point.x < -23.5 && point.y > 0.0 && point.y < 1.83,
+        "{point:?}"
+    );
+    let intent = tick("Goalkeeper", &w, &mut PlayerMemory::default());
+    let BodyIntent::WalkTo {
+        target,
+        heading_deg,
+        ..
+    } = intent.body
+    else {
+        panic!("no walk: {:?}", intent.body)
+    };
+    assert!(own_of(&w, target).distance(point) < 1e-6);
+    // Facing the ball: its bearing from the keeper, in the robot frame.
+    let to_ball = w.pose().robot(w.side().global(ball));
+    assert!((heading_deg - to_ball.y.atan2(to_ball.x).to_degrees()).abs() < 1e-6);
+}
+
+#[test]
+fn goalkeeper_meets_a_shot_where_it_crosses_its_line() {
+    let mut w = world(
+        1,
+        Own::new(-26.8, 0.0),
+        Own::new(-18.0, 0.0),
+        PlayMode::PlayOn,
+    );
+    // A ball rolling at ~6 m/s from (-18, 0) towards the post side (-27.5, 1.2): feed the
+    // tracker a second of sightings.
+    let side = w.side();
+    let (from, to) = (Own::new(-18.0, 0.0), Own::new(-27.5, 1.2));
+    let dir = (to - from).scaled(1.0 / to.distance(from));
+    for i in 0..10 {
+        let t = 10.0 + 0.02 * f64::from(i);
+        let p = side.global(from + dir.scaled(6.0 * (t - 10.0)));
+        w.time = t;
+        w.ball.update(t, Some(Vector3::new(p.x, p.y, 0.11)));
+    }
+    let intent = tick("Goalkeeper", &w, &mut PlayerMemory::default());
+    let BodyIntent::WalkTo { target, .. } = intent.body else {
+        panic!("the keeper does not move to the shot: {:?}", intent.body)
+    };
+    let goal = own_of(&w, target);
+    // The crossing of its line x = -26.8 lies about 1.1 m to the keeper's +y.
+    assert!(
+        goal.y > 0.7 && goal.y < 1.4 && (goal.x + 26.8).abs() < 0.2,
+        "{goal:?}"
+    );
+}
