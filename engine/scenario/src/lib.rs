@@ -25,6 +25,7 @@
 //! )
 //! ```
 
+mod conditions;
 pub mod decode;
 pub mod judge;
 pub mod load;
