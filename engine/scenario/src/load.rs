@@ -17,6 +17,7 @@ const SCENARIO_FIELDS: &[&str] = &[
     "theirs",
     "ball",
     "settle_s",
+    "play_mode",
     "time_limit_s",
     "success",
 ];
@@ -160,6 +161,24 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
             );
         }
     }
+    // The only play mode the monitor of rcsssmj 0.2.1 can set with the ball where the file puts
+    // it: `(dropBall)` gives PlayOn; `(playMode …)` is parsed and ignored, `(kickOff …)` moves
+    // the ball to the centre.
+    let play_mode_ok = match f.take("play_mode") {
+        None => true,
+        Some(n) => match &n.kind {
+            NodeKind::Unit(id) if id.name == "PlayOn" => true,
+            _ => {
+                d.error_hint(
+                    "unsupported-play-mode",
+                    n.span,
+                    format!("play mode {} cannot be set", n.describe()),
+                    "rcssservermj 0.2.1 ignores `(playMode ...)` from the monitor; scenarios run in `PlayOn` (set with `(dropBall)`)",
+                );
+                false
+            }
+        },
+    };
     let settle_s = match f.take("settle_s") {
         None => Some(1.0),
         Some(n) => d.float_in(n, 0.0, 10.0, "s"),
@@ -173,6 +192,9 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
     f.finish(d, SCENARIO_FIELDS);
     if let (Some(o), Some(t)) = (&ours, &theirs) {
         placement_gaps(d, node, o, t);
+    }
+    if !play_mode_ok {
+        return None;
     }
     Some(Scenario {
         name: name?,

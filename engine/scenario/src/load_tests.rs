@@ -206,6 +206,23 @@ fn robots_placed_from_the_ball() {
 }
 
 #[test]
+fn only_play_on_can_be_set() {
+    let (_, report) = check(&GOOD.replace(
+        "time_limit_s: 8.0,",
+        "play_mode: PlayOn,\n    time_limit_s: 8.0,",
+    ));
+    assert!(!report.has_errors(), "{}", report.render_text());
+    let text = GOOD.replace(
+        "time_limit_s: 8.0,",
+        "play_mode: KickOff_Left,\n    time_limit_s: 8.0,",
+    );
+    assert_eq!(
+        one_error(&text),
+        ("unsupported-play-mode".into(), "11:16".into())
+    );
+}
+
+#[test]
 fn an_empty_team_of_ours() {
     let text = GOOD.replace(
         "ours: [Robot(unum: 1, at: (x: -26.0, y: 0.0), heading_deg: 0.0)],",
