@@ -8,7 +8,8 @@ use libero_tests::live_turn;
 use std::path::Path;
 use std::time::Instant;
 
-/// Shots from 6–8 m at a point 0.5 m inside our goal; `ours` decides who is in the way.
+/// Shots from 6–8 m at varied angles at a point 0.5 m inside our goal; `ours` decides who is
+/// in the way.
 fn shots(ours: &str) -> Scenario {
     let text = format!(
         r#"Scenario(
@@ -16,7 +17,7 @@ fn shots(ours: &str) -> Scenario {
     field: "fifa7vs7",
     ours: [{ours}],
     ball: Ball(
-        at: (x: Range(-21.5, -19.5), y: Range(-2.0, 2.0)),
+        at: (x: Range(-21.5, -19.5), y: Range(-4.0, 4.0)),
         launch: Some(Towards(target: (x: -28.0, y: Range(-1.0, 1.0)), speed_m_s: Range(6.0, 6.5))),
     ),
     settle_s: 0.5,
@@ -34,6 +35,7 @@ fn data() -> RunData {
     RunData {
         library: load_library(&default_data_dirs(), false).unwrap(),
         skills: SkillSource::Builtin,
+        interrupt: Default::default(),
     }
 }
 

@@ -17,14 +17,15 @@
 //!     ours: [Robot(unum: 1, at: (x: -26.0, y: 0.0), heading_deg: 0.0)],
 //!     theirs: [],
 //!     ball: Ball(
-//!         at: (x: Range(-21.5, -15.5), y: Range(-4.0, 4.0)),
-//!         launch: Some(Towards(target: (x: -27.5, y: Range(-1.2, 1.2)), speed_m_s: Range(5.0, 6.0))),
+//!         at: (x: Range(-21.5, -15.5), y: Range(-5.0, 5.0)),
+//!         launch: Some(Towards(target: (x: -28.0, y: Range(-1.4, 1.4)), speed_m_s: Range(6.0, 7.0))),
 //!     ),
 //!     time_limit_s: 8.0,
 //!     success: BallKeptOut,
 //! )
 //! ```
 
+mod conditions;
 pub mod decode;
 pub mod judge;
 pub mod load;
@@ -91,6 +92,10 @@ pub fn run_series(
                     each(&outcome);
                     summary.runs.push(outcome);
                     continue 'runs;
+                }
+                Err(RunError::Interrupted) => {
+                    error = Some(RunError::Interrupted);
+                    break 'runs;
                 }
                 Err(e) if attempt == 1 => {
                     log::warn!(

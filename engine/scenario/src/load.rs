@@ -1,14 +1,11 @@
 //! `Scenario(...)` files: decoding and validation with located diagnostics.
 
+use crate::conditions::success;
 use crate::decode::{head, items, Decoder};
-use crate::spec::{
-    aimed_heading, rest_point, BallSpec, Launch, Num, Place, Play, Point, Rng, Robot, Scenario,
-    Success,
-};
+use crate::spec::{shortfall, BallSpec, Launch, Num, Place, Play, Point, Rng, Robot, Scenario};
 use libero_behavior::diagnostics::{did_you_mean, Diagnostic, Report, SourceFile};
 use libero_behavior::syntax::{self, Node, NodeKind, Span};
 use libero_model::FieldGeometry;
-use libero_world::params::BallParams;
 use libero_world::WorldParams;
 use std::path::Path;
 use std::sync::Arc;
@@ -20,19 +17,11 @@ const SCENARIO_FIELDS: &[&str] = &[
     "theirs",
     "ball",
     "settle_s",
+    "play_mode",
     "time_limit_s",
     "success",
 ];
 const ROBOT_FIELDS: &[&str] = &["unum", "at", "heading_deg", "play"];
-const SUCCESS_NAMES: &[&str] = &[
-    "GoalScored",
-    "BallKeptOut",
-    "BallReached",
-    "BallMoved",
-    "NoCollision",
-    "All",
-    "Any",
-];
 /// Torsos placed closer than this are warned about (they would start in contact) [m].
 const MIN_PLACEMENT_GAP_M: f64 = 0.5;
 /// Draws checked for launches that stop short of their target.
@@ -172,6 +161,24 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
             );
         }
     }
+    // The only play mode the monitor of rcsssmj 0.2.1 can set with the ball where the file puts
+    // it: `(dropBall)` gives PlayOn; `(playMode …)` is parsed and ignored, `(kickOff …)` moves
+    // the ball to the centre.
+    let play_mode_ok = match f.take("play_mode") {
+        None => true,
+        Some(n) => match &n.kind {
+            NodeKind::Unit(id) if id.name == "PlayOn" => true,
+            _ => {
+                d.error_hint(
+                    "unsupported-play-mode",
+                    n.span,
+                    format!("play mode {} cannot be set", n.describe()),
+                    "rcssservermj 0.2.1 ignores `(playMode ...)` from the monitor; scenarios run in `PlayOn` (set with `(dropBall)`)",
+                );
+                false
+            }
+        },
+    };
     let settle_s = match f.take("settle_s") {
         None => Some(1.0),
         Some(n) => d.float_in(n, 0.0, 10.0, "s"),
@@ -185,6 +192,9 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
     f.finish(d, SCENARIO_FIELDS);
     if let (Some(o), Some(t)) = (&ours, &theirs) {
         placement_gaps(d, node, o, t);
+    }
+    if !play_mode_ok {
+        return None;
     }
     Some(Scenario {
         name: name?,
@@ -526,110 +536,6 @@ fn launch_reaches(d: &mut Decoder, span: Span, field: &FieldGeometry, at: Point,
         );
     } else {
         d.warning_hint("launch-short", span, message, hint);
-    }
-}
-
-/// How far short of `to` a ball launched from `from` at `v` stops [m] (≤ 0: it gets there).
-pub fn shortfall(ball: &BallParams, from: [f64; 2], to: [f64; 2], v: f64) -> f64 {
-    let heading = aimed_heading(ball, from, to, v);
-    let rest = rest_point(ball, from, v, heading);
-    let need = (to[0] - from[0]).hypot(to[1] - from[1]);
-    need - (rest[0] - from[0]).hypot(rest[1] - from[1])
-}
-
-fn success(d: &mut Decoder, node: &Node, ours: &[Robot], ours_known: bool) -> Option<Success> {
-    let Some((name, name_span)) = head(node) else {
-        d.expected(node, "a success condition such as `GoalScored`");
-        return None;
-    };
-    let unit = matches!(node.kind, NodeKind::Unit(_));
-    match name {
-        "GoalScored" if unit => Some(Success::GoalScored),
-        "BallKeptOut" if unit => Some(Success::BallKeptOut),
-        "BallReached" => {
-            let mut f = d.fields(node, "BallReached")?;
-            let unum_node = f.require(d, "unum");
-            let unum = unum_node.and_then(|n| d.int_in(n, 1, 11));
-            let within = f
-                .require(d, "within_m")
-                .and_then(|n| d.float_in(n, 0.05, 5.0, "m"));
-            f.finish(d, &["unum", "within_m"]);
-            if let (Some(u), Some(n)) = (unum, unum_node) {
-                if ours_known && !ours.iter().any(|r| i64::from(r.unum) == u) {
-                    let numbers: Vec<String> = ours.iter().map(|r| r.unum.to_string()).collect();
-                    d.error_hint(
-                        "unknown-robot",
-                        n.span,
-                        format!("our team has no robot number {u}"),
-                        format!("`ours` has numbers: {}", numbers.join(", ")),
-                    );
-                    return None;
-                }
-            }
-            Some(Success::BallReached {
-                unum: unum? as u32,
-                within_m: within?,
-            })
-        }
-        "BallMoved" => {
-            let mut f = d.fields(node, "BallMoved")?;
-            let min = f
-                .require(d, "min_m")
-                .and_then(|n| d.float_in(n, 0.05, 60.0, "m"));
-            f.finish(d, &["min_m"]);
-            Some(Success::BallMoved { min_m: min? })
-        }
-        "NoCollision" => {
-            let mut f = d.fields(node, "NoCollision")?;
-            let min = f
-                .require(d, "min_distance_m")
-                .and_then(|n| d.float_in(n, 0.05, 3.0, "m"));
-            f.finish(d, &["min_distance_m"]);
-            Some(Success::NoCollision {
-                min_distance_m: min?,
-            })
-        }
-        "All" | "Any" => {
-            let Some([list]) = items(node) else {
-                d.expected(node, &format!("`{name}([...])` with a list of conditions"));
-                return None;
-            };
-            let parts = d.list(list)?;
-            if parts.is_empty() {
-                d.error(
-                    "empty-composite",
-                    node.span,
-                    format!("`{name}` has no condition"),
-                );
-                return None;
-            }
-            let parts: Vec<Option<Success>> = parts
-                .iter()
-                .map(|p| success(d, p, ours, ours_known))
-                .collect();
-            let parts: Option<Vec<Success>> = parts.into_iter().collect();
-            let parts = parts?;
-            Some(if name == "All" {
-                Success::All(parts)
-            } else {
-                Success::Any(parts)
-            })
-        }
-        "GoalScored" | "BallKeptOut" => {
-            d.expected(node, &format!("`{name}` without arguments"));
-            None
-        }
-        _ => {
-            let hint = did_you_mean(name, SUCCESS_NAMES.iter().copied())
-                .unwrap_or_else(|| format!("expected one of: {}", SUCCESS_NAMES.join(", ")));
-            d.error_hint(
-                "unknown-condition",
-                name_span,
-                format!("unknown success condition `{name}`"),
-                hint,
-            );
-            None
-        }
     }
 }
 

@@ -1,6 +1,7 @@
 //! Scenario files: a good one, and each kind of error at its place.
 
-use crate::load::{is_scenario_text, load_text, shortfall};
+use crate::load::{is_scenario_text, load_text};
+use crate::spec::{path_point, shortfall};
 use crate::spec::{Launch, Num, Play, Success};
 use libero_behavior::Report;
 use libero_world::WorldParams;
@@ -75,6 +76,25 @@ fn runs_are_reproducible_and_varied() {
         // Every shot is aimed to reach its target in the goal.
         let t = r.target.unwrap();
         assert!(shortfall(&ball, r.ball, t, r.launch_speed()) <= 0.0);
+        // ... and its modelled path goes through the target.
+        let h = r.ball_velocity[1].atan2(r.ball_velocity[0]);
+        let d = (t[0] - r.ball[0]).hypot(t[1] - r.ball[1]);
+        let closest = (0..=400)
+            .map(|k| {
+                path_point(
+                    &ball,
+                    r.ball,
+                    r.launch_speed(),
+                    h,
+                    d * 1.2 * k as f64 / 400.0,
+                )
+            })
+            .map(|p| (p[0] - t[0]).hypot(p[1] - t[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            closest < 0.05,
+            "run {i}: the path passes {closest:.3} m from the target"
+        );
         assert!(r.ball_velocity[0] < 0.0);
     }
 }
@@ -183,6 +203,23 @@ fn robots_placed_from_the_ball() {
         "at: FromBall(dx: -15.0, dy: 0.0)",
     );
     assert_eq!(one_error(&text), ("off-field".into(), "6:33".into()));
+}
+
+#[test]
+fn only_play_on_can_be_set() {
+    let (_, report) = check(&GOOD.replace(
+        "time_limit_s: 8.0,",
+        "play_mode: PlayOn,\n    time_limit_s: 8.0,",
+    ));
+    assert!(!report.has_errors(), "{}", report.render_text());
+    let text = GOOD.replace(
+        "time_limit_s: 8.0,",
+        "play_mode: KickOff_Left,\n    time_limit_s: 8.0,",
+    );
+    assert_eq!(
+        one_error(&text),
+        ("unsupported-play-mode".into(), "11:16".into())
+    );
 }
 
 #[test]

@@ -51,12 +51,16 @@ pub enum RunError {
     Build(#[from] libero_agent::build::BuildError),
     #[error("{0}")]
     Setup(String),
+    #[error("interrupted")]
+    Interrupted,
 }
 
 /// Where the agents' data comes from.
 pub struct RunData {
     pub library: LibrarySource,
     pub skills: SkillSource,
+    /// Set (e.g. by Ctrl-C) to end the series at once, server stopped.
+    pub interrupt: Arc<AtomicBool>,
 }
 
 struct Robot {
@@ -71,6 +75,7 @@ pub struct Arena {
     robots: Vec<Robot>,
     teams: Vec<Team>,
     shutdown: Arc<AtomicBool>,
+    interrupt: Arc<AtomicBool>,
     ball: BallParams,
 }
 
@@ -113,6 +118,7 @@ impl Arena {
             robots,
             teams,
             shutdown,
+            interrupt: Arc::clone(&data.interrupt),
             ball: WorldParams::builtin().ball,
         };
         // Every agent must be answering before the first placement.
@@ -151,6 +157,9 @@ impl Arena {
     fn wait_until(&self, until: f64) -> Result<(), RunError> {
         let mut last = (self.now(), Instant::now());
         while self.now() < until {
+            if self.interrupt.load(Ordering::Relaxed) {
+                return Err(RunError::Interrupted);
+            }
             let now = self.now();
             if now > last.0 {
                 last = (now, Instant::now());
@@ -300,8 +309,12 @@ impl Arena {
         let mut judge = Judge::new(&scenario.success);
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
+        let mut last_in_play = None;
         let (verdict, ended) = loop {
             std::thread::sleep(Duration::from_millis(5));
+            if self.interrupt.load(Ordering::Relaxed) {
+                return Err(RunError::Interrupted);
+            }
             let now = self.now();
             if now > last_progress.0 {
                 last_progress = (now, Instant::now());
@@ -321,6 +334,9 @@ impl Arena {
                 goals_against: s.score_right.saturating_sub(start.score_right),
             };
             measure.observe(t, s.ball);
+            if s.play_mode == "PlayOn" {
+                last_in_play = s.ball.map(|b| [b[0], b[1]]);
+            }
             judge.observe(&o);
             let v = judge.verdict();
             if v.decided() {
@@ -373,6 +389,7 @@ impl Arena {
             closest_m: judge.closest.map(|(g, _)| g),
             ball_travel_m: measure.max_travel,
             goal_line_y: measure.goal_line_y,
+            ball_end: last_in_play,
             robots,
         })
     }

@@ -49,6 +49,8 @@ pub struct RunOutcome {
     pub ball_travel_m: f64,
     /// Where the ball first crossed a goal line (y [m]), if it did.
     pub goal_line_y: Option<f64>,
+    /// The last ball position seen in play (before the referee moved it after a goal or out).
+    pub ball_end: Option<[f64; 2]>,
     /// Every robot's start and end.
     pub robots: Vec<RobotTravel>,
 }
@@ -89,6 +91,7 @@ struct JsonRun {
     measured_launch: Option<LaunchMeasure>,
     ball_travel_m: f64,
     goal_line_y: Option<f64>,
+    ball_end: Option<[f64; 2]>,
     goals_for: u32,
     goals_against: u32,
     closest_m: Option<f64>,
@@ -258,6 +261,7 @@ impl Summary {
                 measured_launch: r.launch,
                 ball_travel_m: r.ball_travel_m,
                 goal_line_y: r.goal_line_y,
+                ball_end: r.ball_end,
                 goals_for: r.goals_for,
                 goals_against: r.goals_against,
                 closest_m: r.closest_m,

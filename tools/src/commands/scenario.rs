@@ -1,7 +1,7 @@
 //! `libero scenario FILE`: a situation from a scenario file, run N times on a real server.
 
 use super::behavior::Format;
-use super::setup::{load_robot, DataArgs};
+use super::setup::{ctrl_c_flag, load_robot, DataArgs};
 use super::CliResult;
 use clap::Args;
 use libero_scenario::{load_file, run_series, Report, RunData, Summary};
@@ -44,6 +44,7 @@ pub fn run(args: ScenarioArgs) -> CliResult {
     let data = RunData {
         library: args.data.source()?,
         skills: args.data.skills(&model)?,
+        interrupt: ctrl_c_flag(),
     };
     eprintln!(
         "scenario {}: {} run(s), seed {}, on a fresh fast-mode rcssservermj…",
