@@ -10,10 +10,12 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// A private copy of the shipped behaviors and formations that the test may edit.
-fn copy_of_shipped_data() -> Vec<PathBuf> {
+/// A private copy of the shipped behaviors and formations that the test (`name`) may edit: tests
+/// of this file run side by side, each on its own copy.
+fn copy_of_shipped_data(name: &str) -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let dest = std::env::temp_dir().join(format!("libero-hot-reload-{}", std::process::id()));
+    let dest =
+        std::env::temp_dir().join(format!("libero-hot-reload-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dest);
     let mut dirs = Vec::new();
     for name in ["behaviors", "formations"] {
@@ -53,7 +55,7 @@ fn tree_edits_take_effect_within_three_cycles_and_broken_edits_keep_the_old_tree
         ..ServerOptions::default()
     })
     .expect("starting rcssservermj");
-    let dirs = copy_of_shipped_data();
+    let dirs = copy_of_shipped_data("trees");
     let common = dirs[0].join("common.ron");
     let original = std::fs::read_to_string(&common).unwrap();
     let source = build::load_library(&dirs, true).expect("shipped files load");
@@ -319,7 +321,7 @@ fn goalkeeper_file_edits_move_where_the_keeper_stands() {
         ..ServerOptions::default()
     })
     .expect("starting rcssservermj");
-    let dirs = copy_of_shipped_data();
+    let dirs = copy_of_shipped_data("keeper");
     let keeper_file = dirs[1].join("goalkeeper.ron");
     let original = std::fs::read_to_string(&keeper_file).unwrap();
     let source = build::load_library(&dirs, true).expect("shipped files load");

@@ -75,9 +75,12 @@ impl Default for GoalkeeperParams {
 /// A ball on its way into our goal, as the ball prediction sees it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Shot {
-    /// Where it crosses the line through the keeper parallel to the goal line, and when [s].
-    pub at_keeper_line: Own,
-    pub at_keeper_line_s: f64,
+    /// Where its path passes closest to the keeper ...
+    pub passes_at: Own,
+    /// ... that far to the keeper's left (robot frame; negative: right) [m] ...
+    pub offset_left_m: f64,
+    /// ... in this many seconds.
+    pub in_s: f64,
 }
 
 /// What the keeper does about a shot this cycle.
@@ -87,7 +90,7 @@ pub enum Save {
     Walk(Own),
     /// The ball comes at the keeper: block.
     Block,
-    /// Dive to the left (+y in the own frame when facing +x) or right.
+    /// Dive to the keeper's left or right.
     Dive { left: bool },
 }
 
@@ -138,20 +141,20 @@ impl GoalkeeperParams {
         y.abs() <= field.goal_half_width() + self.post_margin_m
     }
 
-    /// How the keeper at `keeper` meets `shot`: `None` while the ball is still farther away
-    /// in time than `save_within_s` and walking there is still possible later.
-    pub fn save(&self, keeper: Own, shot: &Shot) -> Save {
-        let offset = shot.at_keeper_line.y - keeper.y;
+    /// How the keeper meets `shot`: it walks to where the ball passes while there is time
+    /// (or the ball passes beyond any dive), blocks a ball coming at it, dives beside it.
+    pub fn save(&self, shot: &Shot) -> Save {
+        let offset = shot.offset_left_m;
         let walk_time = offset.abs() / self.walk_speed_m_s.max(1e-3);
-        let soon = shot.at_keeper_line_s <= self.save_within_s;
+        let soon = shot.in_s <= self.save_within_s;
         if offset.abs() <= self.block_reach_m {
             if soon {
                 Save::Block
             } else {
-                Save::Walk(shot.at_keeper_line)
+                Save::Walk(shot.passes_at)
             }
-        } else if walk_time <= shot.at_keeper_line_s || !soon || offset.abs() > self.dive_reach_m {
-            Save::Walk(shot.at_keeper_line)
+        } else if walk_time <= shot.in_s || !soon || offset.abs() > self.dive_reach_m {
+            Save::Walk(shot.passes_at)
         } else {
             Save::Dive { left: offset > 0.0 }
         }
