@@ -84,24 +84,19 @@ fn save_walks_when_there_is_time_blocks_at_the_body_and_dives_beside_it() {
         dive_reach_m: 1.4,
         ..GoalkeeperParams::default()
     };
-    let keeper = Own::new(-26.5, 0.0);
+    // The keeper faces the field from (-26.5, 0): its left is own +y.
     let shot = |y: f64, t: f64| Shot {
-        at_keeper_line: Own::new(-26.5, y),
-        at_keeper_line_s: t,
+        passes_at: Own::new(-26.5, y),
+        offset_left_m: y,
+        in_s: t,
     };
-    assert_eq!(p.save(keeper, &shot(0.2, 0.8)), Save::Block);
-    assert_eq!(p.save(keeper, &shot(1.0, 0.8)), Save::Dive { left: true });
-    assert_eq!(p.save(keeper, &shot(-1.0, 0.8)), Save::Dive { left: false });
+    assert_eq!(p.save(&shot(0.2, 0.8)), Save::Block);
+    assert_eq!(p.save(&shot(1.0, 0.8)), Save::Dive { left: true });
+    assert_eq!(p.save(&shot(-1.0, 0.8)), Save::Dive { left: false });
     // 3 s away: walk there (0.4 m/s covers 1 m in 2.5 s).
-    assert_eq!(
-        p.save(keeper, &shot(1.0, 3.0)),
-        Save::Walk(Own::new(-26.5, 1.0))
-    );
+    assert_eq!(p.save(&shot(1.0, 3.0)), Save::Walk(Own::new(-26.5, 1.0)));
     // Beyond the dive's reach: only walking can help.
-    assert_eq!(
-        p.save(keeper, &shot(2.0, 0.8)),
-        Save::Walk(Own::new(-26.5, 2.0))
-    );
+    assert_eq!(p.save(&shot(2.0, 0.8)), Save::Walk(Own::new(-26.5, 2.0)));
 }
 
 #[test]
