@@ -162,7 +162,7 @@ fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on()
     let BodyIntent::Kick { distance_m, .. } = intent.body else {
         panic!("no kick: {:?}", intent.body)
     };
-    assert!((distance_m - 3.0).abs() < 1e-9, "{distance_m}");
+    assert!((distance_m - 2.0).abs() < 1e-9, "{distance_m}");
 }
 
 #[test]
