@@ -345,6 +345,12 @@ impl Arena {
             }
             // The launch takes effect after the next step; a mode change after that is play
             // stopping (goal, ball out of play, free kick).
+            if s.play_mode == "GameOver" {
+                // The server's game clock ran out under the series: not the robots' doing.
+                return Err(RunError::Setup(
+                    "the game clock ran out during the run (GameOver)".into(),
+                ));
+            }
             if t > 0.1 && s.play_mode != "PlayOn" {
                 let why = format!("play stopped ({})", s.play_mode);
                 break (judge.finish(t, &why), why);
