@@ -64,6 +64,8 @@ pub struct TreeDecider {
     natives: Natives,
     runner: Option<TreeRunner>,
     memory: PlayerMemory,
+    /// The library generation whose field was last checked against the server's.
+    field_checked: Option<u64>,
     unum: u32,
     /// What the skills made of the previous cycle's intent (a kick node waits for `Done`).
     skills: SkillStatus,
@@ -76,6 +78,7 @@ impl TreeDecider {
             natives,
             runner: None,
             memory: PlayerMemory::default(),
+            field_checked: None,
             unum,
             skills: SkillStatus::default(),
         }
@@ -103,6 +106,18 @@ impl Decider for TreeDecider {
         let library = self.source.current();
         let mut intent = Intent::default();
         self.ensure_runner(&library);
+        if self.field_checked != Some(library.generation()) {
+            self.field_checked = Some(library.generation());
+            let team_field = strategy_of(&library).field();
+            if team_field.name() != world.field.name {
+                log::error!(
+                    "player {}: team.ron plays on the `{}` field but the server's is `{}`: formations and strategy files are for another field",
+                    self.unum,
+                    team_field.name(),
+                    world.field.name
+                );
+            }
+        }
         if let Some(runner) = self.runner.as_mut() {
             let mut host = AgentHost {
                 world,
