@@ -244,6 +244,17 @@ impl AgentHost<'_> {
                 .memory
                 .avoidance
                 .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
+            log::trace!(
+                "t {:.2} me {:?} to {:?} via {:?} obstacles {:?}",
+                world.time,
+                me,
+                behind,
+                waypoint,
+                obstacles
+                    .iter()
+                    .map(|o| (o.at.x, o.at.y))
+                    .collect::<Vec<_>>()
+            );
             self.walk_towards(waypoint, Some(ball), f64::INFINITY);
             self.look_at_ball();
             return Status::Running;
