@@ -4,31 +4,13 @@
 use libero_agent::{build, AgentConfig, AgentStats, LibrarySource, ParamsEvent, SkillSource, Team};
 use libero_behavior::ReloadEvent;
 use libero_server::{ServerOptions, ServerProcess};
-use libero_tests::{fast_server, init_logging, t1, wait_sim_seconds, wait_until};
-use std::path::{Path, PathBuf};
+use libero_tests::{
+    copy_of_shipped_data, fast_server, init_logging, t1, wait_sim_seconds, wait_until,
+};
+use std::path::Path;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// A private copy of the shipped behaviors and formations that the test (`name`) may edit: tests
-/// of this file run side by side, each on its own copy.
-fn copy_of_shipped_data(name: &str) -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let dest =
-        std::env::temp_dir().join(format!("libero-hot-reload-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dest);
-    let mut dirs = Vec::new();
-    for name in ["behaviors", "formations"] {
-        let to = dest.join(name);
-        std::fs::create_dir_all(&to).unwrap();
-        for entry in std::fs::read_dir(root.join(name)).unwrap() {
-            let from = entry.unwrap().path();
-            std::fs::copy(&from, to.join(from.file_name().unwrap())).unwrap();
-        }
-        dirs.push(to);
-    }
-    dirs
-}
 
 /// Write a file the way many editors do: a temporary file renamed over the old one.
 fn save(path: &Path, text: &str) {

@@ -4,7 +4,7 @@
 use libero_agent::build::{default_data_dirs, load_library};
 use libero_agent::SkillSource;
 use libero_scenario::{load_text, run_series, Report, RunData, Scenario};
-use libero_tests::live_turn;
+use libero_tests::{copy_of_shipped_data, live_turn};
 use std::path::Path;
 use std::time::Instant;
 
@@ -149,24 +149,6 @@ fn the_keeper_keeps_most_shots_out() {
     }
 }
 
-/// A private copy of the shipped data folders that a test may edit.
-fn copy_of_data(name: &str) -> Vec<std::path::PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let dest = std::env::temp_dir().join(format!("libero-scenario-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dest);
-    let mut dirs = Vec::new();
-    for sub in ["behaviors", "formations"] {
-        let to = dest.join(sub);
-        std::fs::create_dir_all(&to).unwrap();
-        for entry in std::fs::read_dir(root.join(sub)).unwrap() {
-            let from = entry.unwrap().path();
-            std::fs::copy(&from, to.join(from.file_name().unwrap())).unwrap();
-        }
-        dirs.push(to);
-    }
-    dirs
-}
-
 /// Editing `shot.ron` while the scenario series runs changes where the striker sends the ball:
 /// 8 m out in front of a standing keeper the shot's chance clears the shipped threshold and the
 /// ball goes into the goal; with the threshold raised above any chance the striker pushes the
@@ -188,7 +170,7 @@ fn shot_file_edits_change_where_the_ball_goes() {
 )"#;
     let mut report = Report::default();
     let scenario = load_text(Path::new("shot_edit.ron"), text.to_string(), &mut report).unwrap();
-    let dirs = copy_of_data("shot");
+    let dirs = copy_of_shipped_data("shot");
     let shot_file = dirs[1].join("shot.ron");
     let original = std::fs::read_to_string(&shot_file).unwrap();
     let library = load_library(&dirs, true).unwrap();

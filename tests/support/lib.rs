@@ -112,3 +112,22 @@ pub fn wait_until(limit: Duration, mut pred: impl FnMut() -> bool) -> Option<Dur
     }
     None
 }
+
+/// A private copy of the shipped `behaviors/` and `formations/` that a test (`name`) may edit:
+/// live tests run side by side, each on its own copy. Returns the two folders.
+pub fn copy_of_shipped_data(name: &str) -> Vec<std::path::PathBuf> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dest = std::env::temp_dir().join(format!("libero-data-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dest);
+    let mut dirs = Vec::new();
+    for sub in ["behaviors", "formations"] {
+        let to = dest.join(sub);
+        std::fs::create_dir_all(&to).unwrap();
+        for entry in std::fs::read_dir(root.join(sub)).unwrap() {
+            let from = entry.unwrap().path();
+            std::fs::copy(&from, to.join(from.file_name().unwrap())).unwrap();
+        }
+        dirs.push(to);
+    }
+    dirs
+}

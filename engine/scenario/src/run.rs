@@ -155,8 +155,13 @@ impl Arena {
 
     /// Wait until simulated time reaches `until` [s].
     fn wait_until(&self, until: f64) -> Result<(), RunError> {
+        self.wait_while(until, || true)
+    }
+
+    /// Wait while `busy` holds, until simulated time reaches `until` [s] at the latest.
+    fn wait_while(&self, until: f64, busy: impl Fn() -> bool) -> Result<(), RunError> {
         let mut last = (self.now(), Instant::now());
-        while self.now() < until {
+        while self.now() < until && busy() {
             if self.interrupt.load(Ordering::Relaxed) {
                 return Err(RunError::Interrupted);
             }
@@ -183,20 +188,9 @@ impl Arena {
 
     /// Wait (at most 15 s of simulated time) until no robot plays a get-up or save motion.
     fn wait_for_motions_to_end(&self) -> Result<(), RunError> {
-        let until = self.now() + 15.0;
-        let mut last = (self.now(), Instant::now());
-        while self.robots.iter().any(|r| r.stats.is_in_motion()) && self.now() < until {
-            let now = self.now();
-            if now > last.0 {
-                last = (now, Instant::now());
-            } else if last.1.elapsed() > STALL {
-                return Err(RunError::Setup(format!(
-                    "the server stalled at {now:.2} s of simulated time"
-                )));
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        Ok(())
+        self.wait_while(self.now() + 15.0, || {
+            self.robots.iter().any(|r| r.stats.is_in_motion())
+        })
     }
 
     /// Every robot upright (ground truth) and none in a get-up or save motion.
