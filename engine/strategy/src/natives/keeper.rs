@@ -72,7 +72,7 @@ fn defend_goal(host: &mut AgentHost, _: &Ports) -> Status {
 fn save_shot_ports() -> NodeSpec {
     NodeSpec::action(
         "SaveShot",
-        "Meets a shot on goal: walks to where the ball crosses the keeper's line, blocks a ball coming at it, dives to its side when walking is too slow (the save motions in the skill parameters). Succeeds once no shot is coming or the save motion has played out.",
+        "Meets a shot on goal: walks to where the ball's path passes closest to the keeper while there is time, stands square to a ball coming at it, dives to its side when walking is too slow (the save motions in the skill parameters). Succeeds once no shot is coming or the save motion has played out.",
     )
 }
 
