@@ -32,7 +32,33 @@ impl<'r> Decoder<'r> {
             .push(Diagnostic::warning(code, message).at(&self.file, span));
     }
 
-    fn expected(&mut self, node: &Node, what: &str) {
+    /// An error with a hint.
+    pub fn error_hint(
+        &mut self,
+        code: &'static str,
+        span: Span,
+        message: impl Into<String>,
+        hint: impl Into<String>,
+    ) {
+        self.error(code, span, message).hint = Some(hint.into());
+    }
+
+    /// A warning with a hint.
+    pub fn warning_hint(
+        &mut self,
+        code: &'static str,
+        span: Span,
+        message: impl Into<String>,
+        hint: impl Into<String>,
+    ) {
+        self.report.push(
+            Diagnostic::warning(code, message)
+                .at(&self.file, span)
+                .hint(hint),
+        );
+    }
+
+    pub fn expected(&mut self, node: &Node, what: &str) {
         let message = format!("expected {what}, found {}", node.describe());
         self.error("invalid-value", node.span, message);
     }
@@ -79,9 +105,19 @@ impl<'r> Decoder<'r> {
     }
 
     pub fn float_in(&mut self, node: &Node, min: f64, max: f64) -> Option<f64> {
+        self.float_in_unit(node, min, max, "")
+    }
+
+    /// A number within [min, max]; the message names the value with its `unit`.
+    pub fn float_in_unit(&mut self, node: &Node, min: f64, max: f64, unit: &str) -> Option<f64> {
         let value = self.float(node)?;
         if value < min || value > max {
-            let message = format!("{value} is out of range [{min}, {max}]");
+            let shown = if unit.is_empty() {
+                value.to_string()
+            } else {
+                format!("{value} {unit}")
+            };
+            let message = format!("{shown} is out of range [{min}, {max}]");
             self.error("out-of-range", node.span, message);
             return None;
         }

@@ -36,7 +36,7 @@ pub(crate) fn success(
             let unum = unum_node.and_then(|n| d.int_in(n, 1, 11));
             let within = f
                 .require(d, "within_m")
-                .and_then(|n| d.float_in(n, 0.05, 5.0, "m"));
+                .and_then(|n| d.float_in_unit(n, 0.05, 5.0, "m"));
             f.finish(d, &["unum", "within_m"]);
             if let (Some(u), Some(n)) = (unum, unum_node) {
                 if ours_known && !ours.iter().any(|r| i64::from(r.unum) == u) {
@@ -59,7 +59,7 @@ pub(crate) fn success(
             let mut f = d.fields(node, "BallMoved")?;
             let min = f
                 .require(d, "min_m")
-                .and_then(|n| d.float_in(n, 0.05, 60.0, "m"));
+                .and_then(|n| d.float_in_unit(n, 0.05, 60.0, "m"));
             f.finish(d, &["min_m"]);
             Some(Success::BallMoved { min_m: min? })
         }
@@ -67,7 +67,7 @@ pub(crate) fn success(
             let mut f = d.fields(node, "NoCollision")?;
             let min = f
                 .require(d, "min_distance_m")
-                .and_then(|n| d.float_in(n, 0.05, 3.0, "m"));
+                .and_then(|n| d.float_in_unit(n, 0.05, 3.0, "m"));
             f.finish(d, &["min_distance_m"]);
             Some(Success::NoCollision {
                 min_distance_m: min?,

@@ -181,11 +181,11 @@ fn scenario(d: &mut Decoder, node: &Node) -> Option<Scenario> {
     };
     let settle_s = match f.take("settle_s") {
         None => Some(1.0),
-        Some(n) => d.float_in(n, 0.0, 10.0, "s"),
+        Some(n) => d.float_in_unit(n, 0.0, 10.0, "s"),
     };
     let time_limit_s = f
         .require(d, "time_limit_s")
-        .and_then(|n| d.float_in(n, 0.1, 300.0, "s"));
+        .and_then(|n| d.float_in_unit(n, 0.1, 300.0, "s"));
     let success = f
         .require(d, "success")
         .and_then(|n| success(d, n, ours.as_deref().unwrap_or(&[]), ours.is_some()));
@@ -332,8 +332,8 @@ fn num(d: &mut Decoder, node: &Node, min: f64, max: f64, unit: &str) -> Option<N
                 return None;
             };
             let (lo_v, hi_v) = (
-                d.float_in(lo, min, max, unit),
-                d.float_in(hi, min, max, unit),
+                d.float_in_unit(lo, min, max, unit),
+                d.float_in_unit(hi, min, max, unit),
             );
             let (lo_v, hi_v) = (lo_v?, hi_v?);
             if lo_v >= hi_v {
@@ -350,7 +350,7 @@ fn num(d: &mut Decoder, node: &Node, min: f64, max: f64, unit: &str) -> Option<N
             Some(Num::Range(lo_v, hi_v))
         }
         _ if matches!(node.kind, NodeKind::Float(_) | NodeKind::Int(_)) => {
-            d.float_in(node, min, max, unit).map(Num::Fixed)
+            d.float_in_unit(node, min, max, unit).map(Num::Fixed)
         }
         _ => {
             d.expected(node, "a number or `Range(lo, hi)`");
