@@ -54,6 +54,17 @@ pub enum KickOutput {
     Stand,
 }
 
+/// What the kick needs to know of the body this cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BodyNow {
+    /// The walk is still making steps (also its closing steps after a stop).
+    pub walk_stepping: bool,
+    /// The velocity the walk executes (after its rate limits).
+    pub walk_velocity: Velocity,
+    /// The torso's largest roll or pitch rate [deg/s].
+    pub rate_deg_s: f64,
+}
+
 /// A kick motion in progress.
 #[derive(Debug, Clone)]
 struct Running {
@@ -72,6 +83,8 @@ pub struct Kick {
     running: Option<Running>,
     /// Since when the robot has stood still near the kicking place (`None`: stepping).
     still_since: Option<f64>,
+    /// The smallest and largest ball position asked for since then (robot frame).
+    seen_while_still: Option<([f64; 2], [f64; 2])>,
     /// A correction walk near the kicking place runs until then.
     correcting_until: Option<f64>,
     /// Stopped (or correcting) near the kicking place.
@@ -94,6 +107,7 @@ impl Kick {
             foot: None,
             running: None,
             still_since: None,
+            seen_while_still: None,
             correcting_until: None,
             looking: false,
             failed_looks: 0,
@@ -127,21 +141,41 @@ impl Kick {
         self.foot = None;
         self.running = None;
         self.still_since = None;
+        self.seen_while_still = None;
         self.correcting_until = None;
         self.looking = false;
         self.failed_looks = 0;
         self.retreating_until = None;
     }
 
-    /// One cycle of a kick request. `walk_stepping`: the walk is still making steps;
-    /// `body_rate_deg_s`: the torso's largest roll or pitch rate. The kick starts only once the
-    /// robot stands still at the kicking place and its body has stopped swaying.
+    /// Standing still from now on (or still), with `ball` asked for this cycle: true once the
+    /// look is over, after `look_s`, or after `steady_look_s` when the ball positions asked for
+    /// since the robot stopped agree within `steady_m`.
+    fn look_done(&mut self, ball: [f64; 2], now: f64, a: &KickApproach) -> bool {
+        let still = *self.still_since.get_or_insert(now);
+        let (lo, hi) = self.seen_while_still.get_or_insert((ball, ball));
+        for i in 0..2 {
+            lo[i] = lo[i].min(ball[i]);
+            hi[i] = hi[i].max(ball[i]);
+        }
+        let steady = (0..2).all(|i| hi[i] - lo[i] <= a.steady_m);
+        let looked = now - still;
+        looked >= a.look_s || (steady && looked >= a.steady_look_s)
+    }
+
+    /// Stepping again (or swaying): the next look starts afresh.
+    fn not_still(&mut self) {
+        self.still_since = None;
+        self.seen_while_still = None;
+    }
+
+    /// One cycle of a kick request. The kick starts only once the robot stands still at the
+    /// kicking place and its body has stopped swaying.
     pub fn update(
         &mut self,
         request: KickRequest,
         now: f64,
-        walk_stepping: bool,
-        body_rate_deg_s: f64,
+        body: BodyNow,
         k: &KickParams,
         w: &WalkParams,
     ) -> KickOutput {
@@ -181,11 +215,19 @@ impl Kick {
             }
             self.retreating_until = None;
         }
+        let travel = if body.walk_stepping {
+            approach::stopping_travel(body.walk_velocity, a, w)
+        } else {
+            [0.0; 3]
+        };
         let step = approach::step(
             request.ball,
             request.direction_deg,
             foot,
-            self.looking,
+            approach::Moving {
+                looking: self.looking,
+                travel,
+            },
             a,
             w,
         );
@@ -195,7 +237,7 @@ impl Kick {
                 log::trace!("kick: approach {v:?}");
                 self.failed_looks = 0;
                 self.correcting_until = None;
-                self.still_since = None;
+                self.not_still();
                 return KickOutput::Walk(Some(v));
             }
             ApproachStep::Align(v) => v,
@@ -209,12 +251,11 @@ impl Kick {
         }
         // A body still swaying from the last steps starts the kick tilted, and the swing's
         // own sideways jolt then throws it over.
-        if walk_stepping || body_rate_deg_s > a.calm_rate_deg_s {
-            self.still_since = None;
+        if body.walk_stepping || body.rate_deg_s > a.calm_rate_deg_s {
+            self.not_still();
             return KickOutput::Walk(None);
         }
-        let still = *self.still_since.get_or_insert(now);
-        if now - still < a.look_s {
+        if !self.look_done(request.ball, now, a) {
             return KickOutput::Walk(None);
         }
         match step {
@@ -225,7 +266,7 @@ impl Kick {
                     request.ball[1],
                     request.direction_deg
                 );
-                self.still_since = None;
+                self.not_still();
                 self.failed_looks += 1;
                 // Short corrections that do not get there (small sideways steps barely move the
                 // robot) are given up for a fresh approach, which aligns on the move.
@@ -379,6 +420,15 @@ fn sole_pose(s: &SolePlacement) -> Isometry3<f64> {
 mod tests {
     use super::*;
 
+    /// Standing (`stepping` false) or walking in place, torso rates `rate_deg_s`.
+    fn body(stepping: bool, rate_deg_s: f64) -> BodyNow {
+        BodyNow {
+            walk_stepping: stepping,
+            walk_velocity: Velocity::default(),
+            rate_deg_s,
+        }
+    }
+
     #[test]
     fn a_kick_looks_kicks_and_reports_done() {
         let t1 = RobotModel::builtin("T1").unwrap();
@@ -391,7 +441,7 @@ mod tests {
             direction_deg: 0.0,
             distance_m: 8.0,
         };
-        match kick.update(far, 0.0, false, 0.0, k, w) {
+        match kick.update(far, 0.0, body(false, 0.0), k, w) {
             KickOutput::Walk(Some(v)) => assert!(v.forward_m_s > 0.0, "{v:?}"),
             other => panic!("{other:?}"),
         }
@@ -402,16 +452,17 @@ mod tests {
         };
         // Still stepping: stop first.
         assert_eq!(
-            kick.update(at_place, 1.0, true, 0.0, k, w),
+            kick.update(at_place, 1.0, body(true, 0.0), k, w),
             KickOutput::Walk(None)
         );
-        // Standing: look for `look_s`, then kick with the left foot (the ball is on the left).
+        // Standing, the ball estimate steady: look for `steady_look_s`, then kick with the left
+        // foot (the ball is on the left).
         let mut t = 1.0;
-        while kick.update(at_place, t, false, 0.0, k, w) != KickOutput::Motion {
-            assert!(t < 1.0 + k.approach.look_s + 0.1, "no kick at {t}");
+        while kick.update(at_place, t, body(false, 0.0), k, w) != KickOutput::Motion {
+            assert!(t < 1.0 + k.approach.steady_look_s + 0.1, "no kick at {t}");
             t += 0.02;
         }
-        assert!(t >= 1.0 + k.approach.look_s);
+        assert!(t >= 1.0 + k.approach.steady_look_s - 1e-9);
         assert_eq!(kick.state(), KickState::Kicking);
         assert_eq!(kick.foot(), Some(Foot::Left));
         // Stiff kicking leg during the swing only.
@@ -425,17 +476,17 @@ mod tests {
         );
         let end = t + d.shift_s + d.windup_s + d.swing_s + d.retract_s + d.recover_s;
         assert_eq!(
-            kick.update(at_place, end - 0.05, false, 0.0, k, w),
+            kick.update(at_place, end - 0.05, body(false, 0.0), k, w),
             KickOutput::Motion
         );
         assert_eq!(
-            kick.update(at_place, end + 0.01, false, 0.0, k, w),
+            kick.update(at_place, end + 0.01, body(false, 0.0), k, w),
             KickOutput::Stand
         );
         assert_eq!(kick.state(), KickState::Done);
         // Done stays done while the same kick is asked for.
         assert_eq!(
-            kick.update(at_place, end + 1.0, false, 0.0, k, w),
+            kick.update(at_place, end + 1.0, body(false, 0.0), k, w),
             KickOutput::Stand
         );
         kick.reset();
@@ -457,18 +508,117 @@ mod tests {
         let mut t = 0.0;
         while t < 3.0 * k.approach.look_s {
             assert_eq!(
-                kick.update(req, t, false, swaying, k, w),
+                kick.update(req, t, body(false, swaying), k, w),
                 KickOutput::Walk(None)
             );
             t += 0.02;
         }
         // Calm from now: the look starts over, then the kick.
         let calm_from = t;
-        while kick.update(req, t, false, 0.0, k, w) != KickOutput::Motion {
+        while kick.update(req, t, body(false, 0.0), k, w) != KickOutput::Motion {
             t += 0.02;
             assert!(t < calm_from + k.approach.look_s + 0.1, "no kick at {t}");
         }
-        assert!(t >= calm_from + k.approach.look_s);
+        assert!(t >= calm_from + k.approach.steady_look_s - 1e-9);
+    }
+
+    #[test]
+    fn an_unsteady_ball_estimate_gets_the_full_look() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let a = &k.approach;
+        let mut kick = Kick::new(&t1).unwrap();
+        // At the place, the estimate jumping by more than `steady_m` (but within the tolerances).
+        let jump = (1.5 * a.steady_m).min(0.9 * a.ready_across_m);
+        assert!(jump > a.steady_m, "the test needs steady_m < ready_across_m");
+        let mut t = 0.0;
+        let mut i = 0;
+        loop {
+            let req = KickRequest {
+                ball: [a.ball_ahead_m, a.ball_beside_m + jump * (i % 2) as f64],
+                direction_deg: 0.0,
+                distance_m: 8.0,
+            };
+            if kick.update(req, t, body(false, 0.0), k, w) == KickOutput::Motion {
+                break;
+            }
+            t += 0.02;
+            i += 1;
+            assert!(t < a.look_s + 0.1, "no kick at {t}");
+        }
+        assert!(t >= a.look_s - 1e-9, "kicked after {t} s");
+    }
+
+    #[test]
+    fn reaching_the_place_on_the_move_stops_and_kicks_without_a_correction() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let a = &k.approach;
+        let mut kick = Kick::new(&t1).unwrap();
+        // Walking forwards, the place still ahead by about the distance the robot needs to
+        // stop in: out of the tolerances as it stands, within them where it comes to rest.
+        let walking = BodyNow {
+            walk_stepping: true,
+            walk_velocity: Velocity {
+                forward_m_s: 0.25,
+                ..Velocity::default()
+            },
+            rate_deg_s: 0.0,
+        };
+        let travel = approach::stopping_travel(walking.walk_velocity, a, w)[0];
+        assert!(travel > a.ready_along_m, "{travel}");
+        let req = KickRequest {
+            ball: [a.ball_ahead_m + travel, a.ball_beside_m],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        assert_eq!(kick.update(req, 0.0, walking, k, w), KickOutput::Walk(None));
+        // The same place seen from standing still would be walked to.
+        let mut fresh = Kick::new(&t1).unwrap();
+        assert!(matches!(
+            fresh.update(req, 0.0, body(false, 0.0), k, w),
+            KickOutput::Walk(Some(v)) if v.forward_m_s > 0.0
+        ));
+        // Come to rest at the place: kicked after the short look, with no correction walk.
+        let at_place = KickRequest {
+            ball: [a.ball_ahead_m, a.ball_beside_m],
+            ..req
+        };
+        let mut t = 0.5;
+        loop {
+            match kick.update(at_place, t, body(false, 0.0), k, w) {
+                KickOutput::Motion => break,
+                KickOutput::Walk(None) => {}
+                other => panic!("{other:?} at {t}"),
+            }
+            t += 0.02;
+            assert!(t < 0.5 + a.steady_look_s + 0.1, "no kick at {t}");
+        }
+    }
+
+    #[test]
+    fn stopping_travel_grows_with_the_speed() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (a, w) = (&p.kick.approach, &p.walk);
+        let at = |forward_m_s: f64, turn_deg_s: f64| {
+            approach::stopping_travel(
+                Velocity {
+                    forward_m_s,
+                    sideways_m_s: 0.0,
+                    turn_deg_s,
+                },
+                a,
+                w,
+            )
+        };
+        assert_eq!(at(0.0, 0.0), [0.0; 3]);
+        let (slow, fast) = (at(0.1, 10.0), at(0.2, -10.0));
+        assert!(fast[0] > 2.0 * slow[0] - 1e-12, "{slow:?} {fast:?}");
+        assert!(slow[2] > 0.0 && fast[2] < 0.0 && (slow[2] + fast[2]).abs() < 1e-12);
+        assert!(at(-0.1, 0.0)[0] < 0.0);
     }
 
     #[test]
@@ -531,7 +681,7 @@ mod tests {
         let mut t = 0.0;
         let mut corrections = 0;
         let back = loop {
-            let out = kick.update(req, t, false, 0.0, k, w);
+            let out = kick.update(req, t, body(false, 0.0), k, w);
             match out {
                 KickOutput::Walk(Some(v)) if v.forward_m_s < 0.0 && v.sideways_m_s == 0.0 => {
                     break v;
@@ -567,7 +717,7 @@ mod tests {
             distance_m: k.long_kick_from_m / 2.0,
         };
         let mut t = 0.0;
-        while kick.update(req, t, false, 0.0, k, w) != KickOutput::Motion {
+        while kick.update(req, t, body(false, 0.0), k, w) != KickOutput::Motion {
             t += 0.02;
             assert!(t < 5.0);
         }
