@@ -94,12 +94,13 @@ pub fn stopping_travel(executed: Velocity, a: &KickApproach, w: &WalkParams) -> 
 }
 
 /// Whether the robot, `travel` (see [`stopping_travel`]) short of where it would come to rest,
-/// is within the kick's tolerances of the kicking place `place` (robot frame) with heading
+/// is within the kick's tolerances (times `scale`) of the kicking place `place` (robot frame) with heading
 /// `heading` [deg].
 fn within_tolerances(
     place: Vector2<f64>,
     heading: f64,
     travel: [f64; 3],
+    scale: f64,
     a: &KickApproach,
 ) -> bool {
     // The place as seen from where the robot stops, in that rest pose's frame.
@@ -109,9 +110,9 @@ fn within_tolerances(
     // Errors along and across the kick direction decide readiness: along matters for the
     // contact timing, across for where the foot meets the ball.
     let d = Vector2::new(heading.to_radians().cos(), heading.to_radians().sin());
-    from_rest.dot(&d).abs() <= a.ready_along_m
-        && from_rest.perp(&d).abs() <= a.ready_across_m
-        && heading.abs() <= a.ready_deg
+    from_rest.dot(&d).abs() <= a.ready_along_m * scale
+        && from_rest.perp(&d).abs() <= a.ready_across_m * scale
+        && heading.abs() <= a.ready_deg * scale
 }
 
 /// Where the robot is in its approach, besides its place relative to the ball.
@@ -124,6 +125,9 @@ pub struct Moving {
     /// to rest within the tolerances, so the kick follows the walk without a look-and-correct
     /// loop.
     pub travel: [f64; 3],
+    /// The tolerances are scaled by this (1: the kick's own): walking, the robot stops only
+    /// well within them, so that it still is within them after the look.
+    pub tolerance_scale: f64,
 }
 
 /// This cycle's approach command.
@@ -135,7 +139,11 @@ pub fn step(
     a: &KickApproach,
     w: &WalkParams,
 ) -> ApproachStep {
-    let Moving { looking, travel } = moving;
+    let Moving {
+        looking,
+        travel,
+        tolerance_scale,
+    } = moving;
     let (place, heading) = kicking_place(ball, direction_deg, foot, a);
     let b = Vector2::from(ball);
     let p = Vector2::from(place);
@@ -143,7 +151,7 @@ pub fn step(
     let heading_error = wrap_deg(heading);
     let distance = p.norm();
     if distance <= a.align_within_m && segment_distance(robot, p, b) >= a.clearance_m * 0.8 {
-        if within_tolerances(p, heading, travel, a) {
+        if within_tolerances(p, heading, travel, tolerance_scale, a) {
             return ApproachStep::Ready;
         }
         let widen = if looking { LOOK_ZONE_HYSTERESIS } else { 1.0 };
@@ -201,10 +209,11 @@ mod tests {
     const STILL: Moving = Moving {
         looking: false,
         travel: [0.0; 3],
+        tolerance_scale: 1.0,
     };
     const LOOKING: Moving = Moving {
         looking: true,
-        travel: [0.0; 3],
+        ..STILL
     };
 
     fn params() -> (KickApproach, WalkParams) {

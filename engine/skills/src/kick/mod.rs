@@ -65,6 +65,40 @@ pub struct BodyNow {
     pub rate_deg_s: f64,
 }
 
+/// Ball positions asked for while standing still: their bounding box and mean.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sightings {
+    lo: [f64; 2],
+    hi: [f64; 2],
+    sum: [f64; 2],
+    count: u32,
+}
+
+impl Sightings {
+    fn add(&mut self, ball: [f64; 2]) {
+        for i in 0..2 {
+            if self.count == 0 {
+                self.lo[i] = ball[i];
+                self.hi[i] = ball[i];
+            }
+            self.lo[i] = self.lo[i].min(ball[i]);
+            self.hi[i] = self.hi[i].max(ball[i]);
+            self.sum[i] += ball[i];
+        }
+        self.count += 1;
+    }
+
+    /// The larger side of the bounding box [m].
+    fn spread(&self) -> f64 {
+        (self.hi[0] - self.lo[0]).max(self.hi[1] - self.lo[1])
+    }
+
+    fn mean(&self) -> [f64; 2] {
+        let n = f64::from(self.count.max(1));
+        [self.sum[0] / n, self.sum[1] / n]
+    }
+}
+
 /// A kick motion in progress.
 #[derive(Debug, Clone)]
 struct Running {
@@ -83,8 +117,12 @@ pub struct Kick {
     running: Option<Running>,
     /// Since when the robot has stood still near the kicking place (`None`: stepping).
     still_since: Option<f64>,
-    /// The smallest and largest ball position asked for since then (robot frame).
-    seen_while_still: Option<([f64; 2], [f64; 2])>,
+    /// Since when its torso rates have stayed below `calm_rate_deg_s` (`None`: swaying).
+    calm_since: Option<f64>,
+    /// The ball positions asked for since the robot stood still (robot frame).
+    seen_while_still: Option<Sightings>,
+    /// Whether the walk was stepping when last waited for (for logging).
+    stepping_seen: bool,
     /// A correction walk near the kicking place runs until then.
     correcting_until: Option<f64>,
     /// Stopped (or correcting) near the kicking place.
@@ -107,7 +145,9 @@ impl Kick {
             foot: None,
             running: None,
             still_since: None,
+            calm_since: None,
             seen_while_still: None,
+            stepping_seen: false,
             correcting_until: None,
             looking: false,
             failed_looks: 0,
@@ -141,6 +181,7 @@ impl Kick {
         self.foot = None;
         self.running = None;
         self.still_since = None;
+        self.calm_since = None;
         self.seen_while_still = None;
         self.correcting_until = None;
         self.looking = false;
@@ -148,25 +189,43 @@ impl Kick {
         self.retreating_until = None;
     }
 
-    /// Standing still from now on (or still), with `ball` asked for this cycle: true once the
-    /// look is over, after `look_s`, or after `steady_look_s` when the ball positions asked for
-    /// since the robot stopped agree within `steady_m`.
-    fn look_done(&mut self, ball: [f64; 2], now: f64, a: &KickApproach) -> bool {
-        let still = *self.still_since.get_or_insert(now);
-        let (lo, hi) = self.seen_while_still.get_or_insert((ball, ball));
-        for i in 0..2 {
-            lo[i] = lo[i].min(ball[i]);
-            hi[i] = hi[i].max(ball[i]);
+    /// Standing still from now on (or still), with `ball` asked for this cycle: the ball
+    /// position to judge the kicking place by (the look's mean) once the look is over, after
+    /// `look_s`, or after `steady_look_s` when the ball positions asked for since the robot
+    /// stopped agree within `steady_m`.
+    fn look(&mut self, ball: [f64; 2], now: f64, a: &KickApproach) -> Option<[f64; 2]> {
+        if self.still_since.is_none() {
+            log::debug!("kick: t {now:.2} standing still: look");
         }
-        let steady = (0..2).all(|i| hi[i] - lo[i] <= a.steady_m);
+        let still = *self.still_since.get_or_insert(now);
+        let seen = self.seen_while_still.get_or_insert_with(Sightings::default);
+        seen.add(ball);
         let looked = now - still;
-        looked >= a.look_s || (steady && looked >= a.steady_look_s)
+        let done = looked >= a.look_s || (seen.spread() <= a.steady_m && looked >= a.steady_look_s);
+        if done {
+            log::trace!(
+                "kick: t {now:.2} looked {looked:.2} s, {} sightings within {:.3} m",
+                seen.count,
+                seen.spread()
+            );
+        }
+        done.then(|| seen.mean())
     }
 
-    /// Stepping again (or swaying): the next look starts afresh.
+    /// Stepping again: the next look starts afresh.
     fn not_still(&mut self) {
         self.still_since = None;
+        self.calm_since = None;
         self.seen_while_still = None;
+    }
+
+    /// Whether the torso rates have stayed below `calm_rate_deg_s` for `calm_s`.
+    fn calm(&mut self, rate_deg_s: f64, now: f64, a: &KickApproach) -> bool {
+        if rate_deg_s > a.calm_rate_deg_s {
+            self.calm_since = None;
+            return false;
+        }
+        now - *self.calm_since.get_or_insert(now) >= a.calm_s
     }
 
     /// One cycle of a kick request. The kick starts only once the robot stands still at the
@@ -195,6 +254,9 @@ impl Kick {
             }
             KickState::Idle | KickState::Approaching => {}
         }
+        if self.state == KickState::Idle {
+            log::debug!("kick: t {now:.2} requested, ball at {:.3?}", request.ball);
+        }
         self.state = KickState::Approaching;
         let a = &k.approach;
         let near = request.ball[0].hypot(request.ball[1]) < a.align_within_m + a.ball_ahead_m;
@@ -220,18 +282,32 @@ impl Kick {
         } else {
             [0.0; 3]
         };
+        // Walking (on the move or correcting), the robot stops only well within the tolerances;
+        // standing, it is judged by them.
+        let walking = body.walk_stepping || self.correcting_until.is_some();
+        let moving = approach::Moving {
+            looking: self.looking,
+            travel,
+            tolerance_scale: if walking { a.stop_within } else { 1.0 },
+        };
         let step = approach::step(
             request.ball,
             request.direction_deg,
             foot,
-            approach::Moving {
-                looking: self.looking,
-                travel,
-            },
+            moving,
             a,
             w,
         );
-        self.looking = !matches!(step, ApproachStep::Walk(_));
+        let looking = !matches!(step, ApproachStep::Walk(_));
+        if looking != self.looking {
+            log::debug!(
+                "kick: t {now:.2} {} ({step:?}, ball at ({:.3}, {:.3}), stop travel {travel:.3?})",
+                if looking { "near the place: stop" } else { "walk on" },
+                request.ball[0],
+                request.ball[1],
+            );
+        }
+        self.looking = looking;
         let correction = match step {
             ApproachStep::Walk(v) => {
                 log::trace!("kick: approach {v:?}");
@@ -249,19 +325,45 @@ impl Kick {
             }
             self.correcting_until = None;
         }
-        // A body still swaying from the last steps starts the kick tilted, and the swing's
-        // own sideways jolt then throws it over.
-        if body.walk_stepping || body.rate_deg_s > a.calm_rate_deg_s {
+        if body.walk_stepping {
+            if !self.stepping_seen {
+                log::debug!("kick: t {now:.2} stopping");
+            }
+            self.stepping_seen = true;
             self.not_still();
             return KickOutput::Walk(None);
         }
-        if !self.look_done(request.ball, now, a) {
+        self.stepping_seen = false;
+        // The look runs from the moment the feet stand still; the errors are judged (and the
+        // kick started) once it is over and the body has stopped swaying: a body still
+        // swaying from the last steps starts the kick tilted, and the swing's own sideways
+        // jolt then throws it over.
+        let looked = self.look(request.ball, now, a);
+        let calm = self.calm(body.rate_deg_s, now, a);
+        let Some(ball) = looked.filter(|_| calm) else {
             return KickOutput::Walk(None);
-        }
+        };
+        let request = KickRequest { ball, ..request };
+        let step = approach::step(
+            ball,
+            request.direction_deg,
+            foot,
+            approach::Moving {
+                looking: true,
+                travel: [0.0; 3],
+                tolerance_scale: 1.0,
+            },
+            a,
+            w,
+        );
+        let correction = match step {
+            ApproachStep::Walk(v) | ApproachStep::Align(v) => v,
+            ApproachStep::Ready => Velocity::default(),
+        };
         match step {
             ApproachStep::Walk(_) | ApproachStep::Align(_) => {
                 log::debug!(
-                    "kick: not ready: ball at ({:.3}, {:.3}), direction {:.1}°; correcting with {correction:?}",
+                    "kick: t {now:.2} not ready: ball at ({:.3}, {:.3}), direction {:.1}°; correcting with {correction:?}",
                     request.ball[0],
                     request.ball[1],
                     request.direction_deg
@@ -273,6 +375,7 @@ impl Kick {
                 if self.failed_looks >= a.looks_before_retreat {
                     self.failed_looks = 0;
                     self.retreating_until = Some(now + a.retreat_s);
+                    log::debug!("kick: t {now:.2} step back");
                     return KickOutput::Walk(None);
                 }
                 self.correcting_until = Some(now + a.correction_s);
@@ -292,7 +395,7 @@ impl Kick {
                     w,
                 );
                 log::debug!(
-                    "kick: {} kick with the {foot:?} foot, ball at ({:.3}, {:.3}), direction {:.1}°",
+                    "kick: t {now:.2} {} kick with the {foot:?} foot, ball at ({:.3}, {:.3}), direction {:.1}°",
                     if long { "long" } else { "short" },
                     request.ball[0],
                     request.ball[1],
@@ -420,6 +523,11 @@ fn sole_pose(s: &SolePlacement) -> Isometry3<f64> {
 mod tests {
     use super::*;
 
+    /// The shortest wait from standing still to the kick: a steady look, a calm body.
+    fn quickest_kick_s(a: &KickApproach) -> f64 {
+        a.steady_look_s.max(a.calm_s)
+    }
+
     /// Standing (`stepping` false) or walking in place, torso rates `rate_deg_s`.
     fn body(stepping: bool, rate_deg_s: f64) -> BodyNow {
         BodyNow {
@@ -459,10 +567,10 @@ mod tests {
         // foot (the ball is on the left).
         let mut t = 1.0;
         while kick.update(at_place, t, body(false, 0.0), k, w) != KickOutput::Motion {
-            assert!(t < 1.0 + k.approach.steady_look_s + 0.1, "no kick at {t}");
+            assert!(t < 1.0 + quickest_kick_s(&k.approach) + 0.1, "no kick at {t}");
             t += 0.02;
         }
-        assert!(t >= 1.0 + k.approach.steady_look_s - 1e-9);
+        assert!(t >= 1.0 + quickest_kick_s(&k.approach) - 1e-9);
         assert_eq!(kick.state(), KickState::Kicking);
         assert_eq!(kick.foot(), Some(Foot::Left));
         // Stiff kicking leg during the swing only.
@@ -519,7 +627,7 @@ mod tests {
             t += 0.02;
             assert!(t < calm_from + k.approach.look_s + 0.1, "no kick at {t}");
         }
-        assert!(t >= calm_from + k.approach.steady_look_s - 1e-9);
+        assert!(t >= calm_from + quickest_kick_s(&k.approach) - 1e-9);
     }
 
     #[test]
@@ -594,7 +702,7 @@ mod tests {
                 other => panic!("{other:?} at {t}"),
             }
             t += 0.02;
-            assert!(t < 0.5 + a.steady_look_s + 0.1, "no kick at {t}");
+            assert!(t < 0.5 + quickest_kick_s(a) + 0.1, "no kick at {t}");
         }
     }
 

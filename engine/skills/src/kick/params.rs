@@ -95,6 +95,12 @@ pub struct KickApproach {
     /// within the tolerances if asked to stop now: braking at the walk's acceleration limits
     /// plus this many steps' length at the executed speed (the step under way is finished).
     pub stop_lead_steps: f64,
+    /// Walking (on the move or in a correction), the robot stops for the kick only within
+    /// this fraction of the tolerances: it still is within them after the stop and the look.
+    pub stop_within: f64,
+    /// Before the kick starts (and before the errors are judged) the torso rates must have
+    /// stayed below `calm_rate_deg_s` for this long [s].
+    pub calm_s: f64,
     /// After this many looks at the kicking place that found it not ready, the robot steps
     /// back for `retreat_s` (at `align_speed_m_s`) and approaches afresh.
     pub looks_before_retreat: u32,
@@ -216,6 +222,8 @@ impl KickParams {
         in_range(&p("steady_look_s"), a.steady_look_s, 0.0, a.look_s)?;
         in_range(&p("steady_m"), a.steady_m, 0.0, 0.5)?;
         in_range(&p("stop_lead_steps"), a.stop_lead_steps, 0.0, 5.0)?;
+        in_range(&p("stop_within"), a.stop_within, 0.1, 1.0)?;
+        in_range(&p("calm_s"), a.calm_s, 0.0, 5.0)?;
         in_range(
             &p("looks_before_retreat"),
             f64::from(a.looks_before_retreat),
