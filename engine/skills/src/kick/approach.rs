@@ -105,7 +105,8 @@ fn within_tolerances(
 ) -> bool {
     // The place as seen from where the robot stops, in that rest pose's frame.
     let turned = travel[2];
-    let from_rest = Rotation2::new(-turned.to_radians()) * (place - Vector2::new(travel[0], travel[1]));
+    let from_rest =
+        Rotation2::new(-turned.to_radians()) * (place - Vector2::new(travel[0], travel[1]));
     let heading = wrap_deg(heading - turned);
     // Errors along and across the kick direction decide readiness: along matters for the
     // contact timing, across for where the foot meets the ball.

@@ -76,14 +76,14 @@ struct Sightings {
 
 impl Sightings {
     fn add(&mut self, ball: [f64; 2]) {
-        for i in 0..2 {
-            if self.count == 0 {
-                self.lo[i] = ball[i];
-                self.hi[i] = ball[i];
-            }
-            self.lo[i] = self.lo[i].min(ball[i]);
-            self.hi[i] = self.hi[i].max(ball[i]);
-            self.sum[i] += ball[i];
+        if self.count == 0 {
+            self.lo = ball;
+            self.hi = ball;
+        }
+        for (i, v) in ball.into_iter().enumerate() {
+            self.lo[i] = self.lo[i].min(v);
+            self.hi[i] = self.hi[i].max(v);
+            self.sum[i] += v;
         }
         self.count += 1;
     }
@@ -290,19 +290,16 @@ impl Kick {
             travel,
             tolerance_scale: if walking { a.stop_within } else { 1.0 },
         };
-        let step = approach::step(
-            request.ball,
-            request.direction_deg,
-            foot,
-            moving,
-            a,
-            w,
-        );
+        let step = approach::step(request.ball, request.direction_deg, foot, moving, a, w);
         let looking = !matches!(step, ApproachStep::Walk(_));
         if looking != self.looking {
             log::debug!(
                 "kick: t {now:.2} {} ({step:?}, ball at ({:.3}, {:.3}), stop travel {travel:.3?})",
-                if looking { "near the place: stop" } else { "walk on" },
+                if looking {
+                    "near the place: stop"
+                } else {
+                    "walk on"
+                },
                 request.ball[0],
                 request.ball[1],
             );
@@ -567,7 +564,10 @@ mod tests {
         // foot (the ball is on the left).
         let mut t = 1.0;
         while kick.update(at_place, t, body(false, 0.0), k, w) != KickOutput::Motion {
-            assert!(t < 1.0 + quickest_kick_s(&k.approach) + 0.1, "no kick at {t}");
+            assert!(
+                t < 1.0 + quickest_kick_s(&k.approach) + 0.1,
+                "no kick at {t}"
+            );
             t += 0.02;
         }
         assert!(t >= 1.0 + quickest_kick_s(&k.approach) - 1e-9);
@@ -639,7 +639,10 @@ mod tests {
         let mut kick = Kick::new(&t1).unwrap();
         // At the place, the estimate jumping by more than `steady_m` (but within the tolerances).
         let jump = (1.5 * a.steady_m).min(0.9 * a.ready_across_m);
-        assert!(jump > a.steady_m, "the test needs steady_m < ready_across_m");
+        assert!(
+            jump > a.steady_m,
+            "the test needs steady_m < ready_across_m"
+        );
         let mut t = 0.0;
         let mut i = 0;
         loop {
