@@ -229,10 +229,11 @@ impl Walk {
             }
         }
         let attitude = Attitude::from_world(world);
+        let c = corrections(&p.balance, &attitude, p.torso_lean_deg);
         let c = if self.phase == Phase::Walking {
-            corrections(&p.balance, &attitude, p.torso_lean_deg)
+            c
         } else {
-            Default::default()
+            c.scaled(p.balance.rest_correction_scale)
         };
         for (k, j) in self.joints.iter().enumerate() {
             self.angles[j.ankle_pitch] += c.ankle_pitch;
@@ -373,6 +374,30 @@ mod tests {
         // Capture steps always: millimetre steps go on and on.
         p.balance.stop_capture_min_deg = 0.0;
         assert!(cycles_to_stop(&p, tilt) > quick + 50);
+    }
+
+    #[test]
+    fn standing_in_the_walk_posture_damps_the_sway() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut p = crate::SkillParams::builtin(&model).unwrap().walk;
+        assert!(p.balance.rest_correction_scale > 0.0);
+        let mut world = libero_world::World::new(&model, "t", 1);
+        world.me.pitch_deg = p.torso_lean_deg;
+        let roll = model.joint_id("left_ankle_roll").unwrap();
+        let mut at_rest = |p: &WalkParams, rate: f64| {
+            world.body.gyro = [rate, 0.0, 0.0];
+            let mut walk = Walk::new(&model).unwrap();
+            let mut pose = vec![0.0; model.joints.len()];
+            walk.update(&world, None, p, &mut pose);
+            assert!(!walk.is_stepping());
+            pose[roll]
+        };
+        let still = at_rest(&p, 0.0);
+        let swaying = at_rest(&p, 10.0);
+        let expected = p.balance.rest_correction_scale * p.balance.ankle_roll_per_gyro * 10.0;
+        assert!((swaying - still - expected).abs() < 1e-9, "{still} {swaying}");
+        p.balance.rest_correction_scale = 0.0;
+        assert_eq!(at_rest(&p, 10.0), at_rest(&p, 0.0));
     }
 
     #[test]

@@ -66,6 +66,10 @@ pub struct BalanceParams {
     /// 0: capture steps always (absent from a file: 0).
     #[serde(default)]
     pub stop_capture_min_deg: f64,
+    /// Standing in the walk's posture (stopped, or settling before the first step), this
+    /// fraction of the walking corrections damps the body's sway (0: none; absent: 0).
+    #[serde(default)]
+    pub rest_correction_scale: f64,
     /// Largest correction any joint gets from the loop [deg].
     pub max_correction_deg: f64,
 }
@@ -204,6 +208,12 @@ impl WalkParams {
             b.step_x_per_tilt_m,
             -0.05,
             0.05,
+        )?;
+        in_range(
+            &format!("{w}.balance.rest_correction_scale"),
+            b.rest_correction_scale,
+            0.0,
+            2.0,
         )?;
         in_range(
             &format!("{w}.balance.stop_capture_min_deg"),
