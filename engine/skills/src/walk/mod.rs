@@ -395,7 +395,10 @@ mod tests {
         let still = at_rest(&p, 0.0);
         let swaying = at_rest(&p, 10.0);
         let expected = p.balance.rest_correction_scale * p.balance.ankle_roll_per_gyro * 10.0;
-        assert!((swaying - still - expected).abs() < 1e-9, "{still} {swaying}");
+        assert!(
+            (swaying - still - expected).abs() < 1e-9,
+            "{still} {swaying}"
+        );
         p.balance.rest_correction_scale = 0.0;
         assert_eq!(at_rest(&p, 10.0), at_rest(&p, 0.0));
     }
