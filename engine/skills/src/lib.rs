@@ -210,8 +210,11 @@ impl Skills {
                     distance_m,
                 },
                 world.time,
-                self.walk.is_stepping(),
-                world.body.gyro[0].abs().max(world.body.gyro[1].abs()),
+                kick::BodyNow {
+                    walk_stepping: self.walk.is_stepping(),
+                    walk_velocity: self.walk.executed(),
+                    rate_deg_s: world.body.gyro[0].abs().max(world.body.gyro[1].abs()),
+                },
                 &self.params.kick,
                 walk_params,
             )),

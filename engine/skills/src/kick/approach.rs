@@ -74,16 +74,77 @@ const ARC_STEP_DEG: f64 = 40.0;
 /// and a robot on its edge would otherwise start and stop walking without end.
 const LOOK_ZONE_HYSTERESIS: f64 = 2.0;
 
-/// This cycle's approach command. `looking`: the robot has stopped to look near the place
-/// (the look zone is then wider).
+/// How far the torso still travels (x, y [m], robot frame) and turns [deg] after a stop is
+/// asked for while the walk executes `executed`: the walk brakes at its acceleration limits,
+/// and the step under way (`a.stop_lead_steps` of one step's length) is finished first.
+pub fn stopping_travel(executed: Velocity, a: &KickApproach, w: &WalkParams) -> [f64; 3] {
+    let axis = |v: f64, accel: f64| {
+        let braking = if accel > 0.0 {
+            v * v.abs() / (2.0 * accel)
+        } else {
+            0.0
+        };
+        braking + v * w.step_period_s * a.stop_lead_steps
+    };
+    [
+        axis(executed.forward_m_s, w.accel_forward_m_s2),
+        axis(executed.sideways_m_s, w.accel_sideways_m_s2),
+        axis(executed.turn_deg_s, w.accel_turn_deg_s2),
+    ]
+}
+
+/// Whether the robot, `travel` (see [`stopping_travel`]) short of where it would come to rest,
+/// is within the kick's tolerances (times `scale`) of the kicking place `place` (robot frame) with heading
+/// `heading` [deg].
+fn within_tolerances(
+    place: Vector2<f64>,
+    heading: f64,
+    travel: [f64; 3],
+    scale: f64,
+    a: &KickApproach,
+) -> bool {
+    // The place as seen from where the robot stops, in that rest pose's frame.
+    let turned = travel[2];
+    let from_rest =
+        Rotation2::new(-turned.to_radians()) * (place - Vector2::new(travel[0], travel[1]));
+    let heading = wrap_deg(heading - turned);
+    // Errors along and across the kick direction decide readiness: along matters for the
+    // contact timing, across for where the foot meets the ball.
+    let d = Vector2::new(heading.to_radians().cos(), heading.to_radians().sin());
+    from_rest.dot(&d).abs() <= a.ready_along_m * scale
+        && from_rest.perp(&d).abs() <= a.ready_across_m * scale
+        && heading.abs() <= a.ready_deg * scale
+}
+
+/// Where the robot is in its approach, besides its place relative to the ball.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Moving {
+    /// The robot has stopped to look near the place (the look zone is then wider).
+    pub looking: bool,
+    /// How far the robot would still move if asked to stop now ([`stopping_travel`]; zeros
+    /// when standing): while walking, the place counts as reached when the robot would come
+    /// to rest within the tolerances, so the kick follows the walk without a look-and-correct
+    /// loop.
+    pub travel: [f64; 3],
+    /// The tolerances are scaled by this (1: the kick's own): walking, the robot stops only
+    /// well within them, so that it still is within them after the look.
+    pub tolerance_scale: f64,
+}
+
+/// This cycle's approach command.
 pub fn step(
     ball: [f64; 2],
     direction_deg: f64,
     foot: Foot,
-    looking: bool,
+    moving: Moving,
     a: &KickApproach,
     w: &WalkParams,
 ) -> ApproachStep {
+    let Moving {
+        looking,
+        travel,
+        tolerance_scale,
+    } = moving;
     let (place, heading) = kicking_place(ball, direction_deg, foot, a);
     let b = Vector2::from(ball);
     let p = Vector2::from(place);
@@ -91,15 +152,7 @@ pub fn step(
     let heading_error = wrap_deg(heading);
     let distance = p.norm();
     if distance <= a.align_within_m && segment_distance(robot, p, b) >= a.clearance_m * 0.8 {
-        // Errors along and across the kick direction decide readiness: along matters for the
-        // contact timing, across for where the foot meets the ball.
-        let d = Vector2::new(heading.to_radians().cos(), heading.to_radians().sin());
-        let along = p.dot(&d);
-        let across = p.perp(&d);
-        if along.abs() <= a.ready_along_m
-            && across.abs() <= a.ready_across_m
-            && heading_error.abs() <= a.ready_deg
-        {
+        if within_tolerances(p, heading, travel, tolerance_scale, a) {
             return ApproachStep::Ready;
         }
         let widen = if looking { LOOK_ZONE_HYSTERESIS } else { 1.0 };
@@ -154,6 +207,16 @@ pub fn step(
 mod tests {
     use super::*;
 
+    const STILL: Moving = Moving {
+        looking: false,
+        travel: [0.0; 3],
+        tolerance_scale: 1.0,
+    };
+    const LOOKING: Moving = Moving {
+        looking: true,
+        ..STILL
+    };
+
     fn params() -> (KickApproach, WalkParams) {
         let t1 = libero_model::RobotModel::builtin("T1").unwrap();
         let p = crate::SkillParams::builtin(&t1).unwrap();
@@ -178,7 +241,7 @@ mod tests {
     fn from_in_front_of_the_ball_the_path_goes_around_it() {
         let (a, w) = params();
         // Ball 0.6 m ahead, to be kicked back towards the robot: the place is behind the ball.
-        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, false, &a, &w) else {
+        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, STILL, &a, &w) else {
             panic!("not ready from the wrong side");
         };
         // Not straight at the ball: sideways first.
@@ -186,7 +249,7 @@ mod tests {
             v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0,
             "{v:?}"
         );
-        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, false, &a, &w) else {
+        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, STILL, &a, &w) else {
             panic!("not ready 1 m away");
         };
         assert!(v.forward_m_s > 0.0, "{v:?}");
@@ -197,23 +260,23 @@ mod tests {
         let (a, w) = params();
         let ball = [a.ball_ahead_m, a.ball_beside_m];
         assert_eq!(
-            step(ball, 0.0, Foot::Left, false, &a, &w),
+            step(ball, 0.0, Foot::Left, STILL, &a, &w),
             ApproachStep::Ready
         );
         // Slightly off: stop, look and correct; further off: align on the move.
         let slightly = 0.5 * (a.ready_deg + a.look_within_deg);
         assert!(matches!(
-            step(ball, slightly, Foot::Left, false, &a, &w),
+            step(ball, slightly, Foot::Left, STILL, &a, &w),
             ApproachStep::Align(v) if v.turn_deg_s > 0.0
         ));
         let beyond = a.look_within_deg + 2.0;
         assert!(matches!(
-            step(ball, beyond, Foot::Left, false, &a, &w),
+            step(ball, beyond, Foot::Left, STILL, &a, &w),
             ApproachStep::Walk(v) if v.turn_deg_s > 0.0
         ));
         // Once stopped to look, the same error is corrected from standing.
         assert!(matches!(
-            step(ball, beyond, Foot::Left, true, &a, &w),
+            step(ball, beyond, Foot::Left, LOOKING, &a, &w),
             ApproachStep::Align(v) if v.turn_deg_s > 0.0
         ));
         assert_eq!(natural_foot(ball, 0.0), Foot::Left);

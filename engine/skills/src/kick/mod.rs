@@ -54,6 +54,51 @@ pub enum KickOutput {
     Stand,
 }
 
+/// What the kick needs to know of the body this cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BodyNow {
+    /// The walk is still making steps (also its closing steps after a stop).
+    pub walk_stepping: bool,
+    /// The velocity the walk executes (after its rate limits).
+    pub walk_velocity: Velocity,
+    /// The torso's largest roll or pitch rate [deg/s].
+    pub rate_deg_s: f64,
+}
+
+/// Ball positions asked for while standing still: their bounding box and mean.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sightings {
+    lo: [f64; 2],
+    hi: [f64; 2],
+    sum: [f64; 2],
+    count: u32,
+}
+
+impl Sightings {
+    fn add(&mut self, ball: [f64; 2]) {
+        if self.count == 0 {
+            self.lo = ball;
+            self.hi = ball;
+        }
+        for (i, v) in ball.into_iter().enumerate() {
+            self.lo[i] = self.lo[i].min(v);
+            self.hi[i] = self.hi[i].max(v);
+            self.sum[i] += v;
+        }
+        self.count += 1;
+    }
+
+    /// The larger side of the bounding box [m].
+    fn spread(&self) -> f64 {
+        (self.hi[0] - self.lo[0]).max(self.hi[1] - self.lo[1])
+    }
+
+    fn mean(&self) -> [f64; 2] {
+        let n = f64::from(self.count.max(1));
+        [self.sum[0] / n, self.sum[1] / n]
+    }
+}
+
 /// A kick motion in progress.
 #[derive(Debug, Clone)]
 struct Running {
@@ -72,6 +117,12 @@ pub struct Kick {
     running: Option<Running>,
     /// Since when the robot has stood still near the kicking place (`None`: stepping).
     still_since: Option<f64>,
+    /// Since when its torso rates have stayed below `calm_rate_deg_s` (`None`: swaying).
+    calm_since: Option<f64>,
+    /// The ball positions asked for since the robot stood still (robot frame).
+    seen_while_still: Option<Sightings>,
+    /// Whether the walk was stepping when last waited for (for logging).
+    stepping_seen: bool,
     /// A correction walk near the kicking place runs until then.
     correcting_until: Option<f64>,
     /// Stopped (or correcting) near the kicking place.
@@ -94,6 +145,9 @@ impl Kick {
             foot: None,
             running: None,
             still_since: None,
+            calm_since: None,
+            seen_while_still: None,
+            stepping_seen: false,
             correcting_until: None,
             looking: false,
             failed_looks: 0,
@@ -127,21 +181,60 @@ impl Kick {
         self.foot = None;
         self.running = None;
         self.still_since = None;
+        self.calm_since = None;
+        self.seen_while_still = None;
         self.correcting_until = None;
         self.looking = false;
         self.failed_looks = 0;
         self.retreating_until = None;
     }
 
-    /// One cycle of a kick request. `walk_stepping`: the walk is still making steps;
-    /// `body_rate_deg_s`: the torso's largest roll or pitch rate. The kick starts only once the
-    /// robot stands still at the kicking place and its body has stopped swaying.
+    /// Standing still from now on (or still), with `ball` asked for this cycle: the ball
+    /// position to judge the kicking place by (the look's mean) once the look is over, after
+    /// `look_s`, or after `steady_look_s` when the ball positions asked for since the robot
+    /// stopped agree within `steady_m`.
+    fn look(&mut self, ball: [f64; 2], now: f64, a: &KickApproach) -> Option<[f64; 2]> {
+        if self.still_since.is_none() {
+            log::debug!("kick: t {now:.2} standing still: look");
+        }
+        let still = *self.still_since.get_or_insert(now);
+        let seen = self.seen_while_still.get_or_insert_with(Sightings::default);
+        seen.add(ball);
+        let looked = now - still;
+        let done = looked >= a.look_s || (seen.spread() <= a.steady_m && looked >= a.steady_look_s);
+        if done {
+            log::trace!(
+                "kick: t {now:.2} looked {looked:.2} s, {} sightings within {:.3} m",
+                seen.count,
+                seen.spread()
+            );
+        }
+        done.then(|| seen.mean())
+    }
+
+    /// Stepping again: the next look starts afresh.
+    fn not_still(&mut self) {
+        self.still_since = None;
+        self.calm_since = None;
+        self.seen_while_still = None;
+    }
+
+    /// Whether the torso rates have stayed below `calm_rate_deg_s` for `calm_s`.
+    fn calm(&mut self, rate_deg_s: f64, now: f64, a: &KickApproach) -> bool {
+        if rate_deg_s > a.calm_rate_deg_s {
+            self.calm_since = None;
+            return false;
+        }
+        now - *self.calm_since.get_or_insert(now) >= a.calm_s
+    }
+
+    /// One cycle of a kick request. The kick starts only once the robot stands still at the
+    /// kicking place and its body has stopped swaying.
     pub fn update(
         &mut self,
         request: KickRequest,
         now: f64,
-        walk_stepping: bool,
-        body_rate_deg_s: f64,
+        body: BodyNow,
         k: &KickParams,
         w: &WalkParams,
     ) -> KickOutput {
@@ -160,6 +253,9 @@ impl Kick {
                 return KickOutput::Motion;
             }
             KickState::Idle | KickState::Approaching => {}
+        }
+        if self.state == KickState::Idle {
+            log::debug!("kick: t {now:.2} requested, ball at {:.3?}", request.ball);
         }
         self.state = KickState::Approaching;
         let a = &k.approach;
@@ -181,21 +277,40 @@ impl Kick {
             }
             self.retreating_until = None;
         }
-        let step = approach::step(
-            request.ball,
-            request.direction_deg,
-            foot,
-            self.looking,
-            a,
-            w,
-        );
-        self.looking = !matches!(step, ApproachStep::Walk(_));
+        let travel = if body.walk_stepping {
+            approach::stopping_travel(body.walk_velocity, a, w)
+        } else {
+            [0.0; 3]
+        };
+        // Walking (on the move or correcting), the robot stops only well within the tolerances;
+        // standing, it is judged by them.
+        let walking = body.walk_stepping || self.correcting_until.is_some();
+        let moving = approach::Moving {
+            looking: self.looking,
+            travel,
+            tolerance_scale: if walking { a.stop_within } else { 1.0 },
+        };
+        let step = approach::step(request.ball, request.direction_deg, foot, moving, a, w);
+        let looking = !matches!(step, ApproachStep::Walk(_));
+        if looking != self.looking {
+            log::debug!(
+                "kick: t {now:.2} {} ({step:?}, ball at ({:.3}, {:.3}), stop travel {travel:.3?})",
+                if looking {
+                    "near the place: stop"
+                } else {
+                    "walk on"
+                },
+                request.ball[0],
+                request.ball[1],
+            );
+        }
+        self.looking = looking;
         let correction = match step {
             ApproachStep::Walk(v) => {
                 log::trace!("kick: approach {v:?}");
                 self.failed_looks = 0;
                 self.correcting_until = None;
-                self.still_since = None;
+                self.not_still();
                 return KickOutput::Walk(Some(v));
             }
             ApproachStep::Align(v) => v,
@@ -207,31 +322,57 @@ impl Kick {
             }
             self.correcting_until = None;
         }
-        // A body still swaying from the last steps starts the kick tilted, and the swing's
-        // own sideways jolt then throws it over.
-        if walk_stepping || body_rate_deg_s > a.calm_rate_deg_s {
-            self.still_since = None;
+        if body.walk_stepping {
+            if !self.stepping_seen {
+                log::debug!("kick: t {now:.2} stopping");
+            }
+            self.stepping_seen = true;
+            self.not_still();
             return KickOutput::Walk(None);
         }
-        let still = *self.still_since.get_or_insert(now);
-        if now - still < a.look_s {
+        self.stepping_seen = false;
+        // The look runs from the moment the feet stand still; the errors are judged (and the
+        // kick started) once it is over and the body has stopped swaying: a body still
+        // swaying from the last steps starts the kick tilted, and the swing's own sideways
+        // jolt then throws it over.
+        let looked = self.look(request.ball, now, a);
+        let calm = self.calm(body.rate_deg_s, now, a);
+        let Some(ball) = looked.filter(|_| calm) else {
             return KickOutput::Walk(None);
-        }
+        };
+        let request = KickRequest { ball, ..request };
+        let step = approach::step(
+            ball,
+            request.direction_deg,
+            foot,
+            approach::Moving {
+                looking: true,
+                travel: [0.0; 3],
+                tolerance_scale: 1.0,
+            },
+            a,
+            w,
+        );
+        let correction = match step {
+            ApproachStep::Walk(v) | ApproachStep::Align(v) => v,
+            ApproachStep::Ready => Velocity::default(),
+        };
         match step {
             ApproachStep::Walk(_) | ApproachStep::Align(_) => {
                 log::debug!(
-                    "kick: not ready: ball at ({:.3}, {:.3}), direction {:.1}°; correcting with {correction:?}",
+                    "kick: t {now:.2} not ready: ball at ({:.3}, {:.3}), direction {:.1}°; correcting with {correction:?}",
                     request.ball[0],
                     request.ball[1],
                     request.direction_deg
                 );
-                self.still_since = None;
+                self.not_still();
                 self.failed_looks += 1;
                 // Short corrections that do not get there (small sideways steps barely move the
                 // robot) are given up for a fresh approach, which aligns on the move.
                 if self.failed_looks >= a.looks_before_retreat {
                     self.failed_looks = 0;
                     self.retreating_until = Some(now + a.retreat_s);
+                    log::debug!("kick: t {now:.2} step back");
                     return KickOutput::Walk(None);
                 }
                 self.correcting_until = Some(now + a.correction_s);
@@ -251,7 +392,7 @@ impl Kick {
                     w,
                 );
                 log::debug!(
-                    "kick: {} kick with the {foot:?} foot, ball at ({:.3}, {:.3}), direction {:.1}°",
+                    "kick: t {now:.2} {} kick with the {foot:?} foot, ball at ({:.3}, {:.3}), direction {:.1}°",
                     if long { "long" } else { "short" },
                     request.ball[0],
                     request.ball[1],
@@ -379,6 +520,20 @@ fn sole_pose(s: &SolePlacement) -> Isometry3<f64> {
 mod tests {
     use super::*;
 
+    /// The shortest wait from standing still to the kick: a steady look, a calm body.
+    fn quickest_kick_s(a: &KickApproach) -> f64 {
+        a.steady_look_s.max(a.calm_s)
+    }
+
+    /// Standing (`stepping` false) or walking in place, torso rates `rate_deg_s`.
+    fn body(stepping: bool, rate_deg_s: f64) -> BodyNow {
+        BodyNow {
+            walk_stepping: stepping,
+            walk_velocity: Velocity::default(),
+            rate_deg_s,
+        }
+    }
+
     #[test]
     fn a_kick_looks_kicks_and_reports_done() {
         let t1 = RobotModel::builtin("T1").unwrap();
@@ -391,7 +546,7 @@ mod tests {
             direction_deg: 0.0,
             distance_m: 8.0,
         };
-        match kick.update(far, 0.0, false, 0.0, k, w) {
+        match kick.update(far, 0.0, body(false, 0.0), k, w) {
             KickOutput::Walk(Some(v)) => assert!(v.forward_m_s > 0.0, "{v:?}"),
             other => panic!("{other:?}"),
         }
@@ -402,16 +557,20 @@ mod tests {
         };
         // Still stepping: stop first.
         assert_eq!(
-            kick.update(at_place, 1.0, true, 0.0, k, w),
+            kick.update(at_place, 1.0, body(true, 0.0), k, w),
             KickOutput::Walk(None)
         );
-        // Standing: look for `look_s`, then kick with the left foot (the ball is on the left).
+        // Standing, the ball estimate steady: look for `steady_look_s`, then kick with the left
+        // foot (the ball is on the left).
         let mut t = 1.0;
-        while kick.update(at_place, t, false, 0.0, k, w) != KickOutput::Motion {
-            assert!(t < 1.0 + k.approach.look_s + 0.1, "no kick at {t}");
+        while kick.update(at_place, t, body(false, 0.0), k, w) != KickOutput::Motion {
+            assert!(
+                t < 1.0 + quickest_kick_s(&k.approach) + 0.1,
+                "no kick at {t}"
+            );
             t += 0.02;
         }
-        assert!(t >= 1.0 + k.approach.look_s);
+        assert!(t >= 1.0 + quickest_kick_s(&k.approach) - 1e-9);
         assert_eq!(kick.state(), KickState::Kicking);
         assert_eq!(kick.foot(), Some(Foot::Left));
         // Stiff kicking leg during the swing only.
@@ -425,17 +584,17 @@ mod tests {
         );
         let end = t + d.shift_s + d.windup_s + d.swing_s + d.retract_s + d.recover_s;
         assert_eq!(
-            kick.update(at_place, end - 0.05, false, 0.0, k, w),
+            kick.update(at_place, end - 0.05, body(false, 0.0), k, w),
             KickOutput::Motion
         );
         assert_eq!(
-            kick.update(at_place, end + 0.01, false, 0.0, k, w),
+            kick.update(at_place, end + 0.01, body(false, 0.0), k, w),
             KickOutput::Stand
         );
         assert_eq!(kick.state(), KickState::Done);
         // Done stays done while the same kick is asked for.
         assert_eq!(
-            kick.update(at_place, end + 1.0, false, 0.0, k, w),
+            kick.update(at_place, end + 1.0, body(false, 0.0), k, w),
             KickOutput::Stand
         );
         kick.reset();
@@ -457,18 +616,120 @@ mod tests {
         let mut t = 0.0;
         while t < 3.0 * k.approach.look_s {
             assert_eq!(
-                kick.update(req, t, false, swaying, k, w),
+                kick.update(req, t, body(false, swaying), k, w),
                 KickOutput::Walk(None)
             );
             t += 0.02;
         }
         // Calm from now: the look starts over, then the kick.
         let calm_from = t;
-        while kick.update(req, t, false, 0.0, k, w) != KickOutput::Motion {
+        while kick.update(req, t, body(false, 0.0), k, w) != KickOutput::Motion {
             t += 0.02;
             assert!(t < calm_from + k.approach.look_s + 0.1, "no kick at {t}");
         }
-        assert!(t >= calm_from + k.approach.look_s);
+        assert!(t >= calm_from + quickest_kick_s(&k.approach) - 1e-9);
+    }
+
+    #[test]
+    fn an_unsteady_ball_estimate_gets_the_full_look() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let a = &k.approach;
+        let mut kick = Kick::new(&t1).unwrap();
+        // At the place, the estimate jumping by more than `steady_m` (but within the tolerances).
+        let jump = (1.5 * a.steady_m).min(0.9 * a.ready_across_m);
+        assert!(
+            jump > a.steady_m,
+            "the test needs steady_m < ready_across_m"
+        );
+        let mut t = 0.0;
+        let mut i = 0;
+        loop {
+            let req = KickRequest {
+                ball: [a.ball_ahead_m, a.ball_beside_m + jump * (i % 2) as f64],
+                direction_deg: 0.0,
+                distance_m: 8.0,
+            };
+            if kick.update(req, t, body(false, 0.0), k, w) == KickOutput::Motion {
+                break;
+            }
+            t += 0.02;
+            i += 1;
+            assert!(t < a.look_s + 0.1, "no kick at {t}");
+        }
+        assert!(t >= a.look_s - 1e-9, "kicked after {t} s");
+    }
+
+    #[test]
+    fn reaching_the_place_on_the_move_stops_and_kicks_without_a_correction() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (k, w) = (&p.kick, &p.walk);
+        let a = &k.approach;
+        let mut kick = Kick::new(&t1).unwrap();
+        // Walking forwards, the place still ahead by about the distance the robot needs to
+        // stop in: out of the tolerances as it stands, within them where it comes to rest.
+        let walking = BodyNow {
+            walk_stepping: true,
+            walk_velocity: Velocity {
+                forward_m_s: 0.25,
+                ..Velocity::default()
+            },
+            rate_deg_s: 0.0,
+        };
+        let travel = approach::stopping_travel(walking.walk_velocity, a, w)[0];
+        assert!(travel > a.ready_along_m, "{travel}");
+        let req = KickRequest {
+            ball: [a.ball_ahead_m + travel, a.ball_beside_m],
+            direction_deg: 0.0,
+            distance_m: 8.0,
+        };
+        assert_eq!(kick.update(req, 0.0, walking, k, w), KickOutput::Walk(None));
+        // The same place seen from standing still would be walked to.
+        let mut fresh = Kick::new(&t1).unwrap();
+        assert!(matches!(
+            fresh.update(req, 0.0, body(false, 0.0), k, w),
+            KickOutput::Walk(Some(v)) if v.forward_m_s > 0.0
+        ));
+        // Come to rest at the place: kicked after the short look, with no correction walk.
+        let at_place = KickRequest {
+            ball: [a.ball_ahead_m, a.ball_beside_m],
+            ..req
+        };
+        let mut t = 0.5;
+        loop {
+            match kick.update(at_place, t, body(false, 0.0), k, w) {
+                KickOutput::Motion => break,
+                KickOutput::Walk(None) => {}
+                other => panic!("{other:?} at {t}"),
+            }
+            t += 0.02;
+            assert!(t < 0.5 + quickest_kick_s(a) + 0.1, "no kick at {t}");
+        }
+    }
+
+    #[test]
+    fn stopping_travel_grows_with_the_speed() {
+        let t1 = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let (a, w) = (&p.kick.approach, &p.walk);
+        let at = |forward_m_s: f64, turn_deg_s: f64| {
+            approach::stopping_travel(
+                Velocity {
+                    forward_m_s,
+                    sideways_m_s: 0.0,
+                    turn_deg_s,
+                },
+                a,
+                w,
+            )
+        };
+        assert_eq!(at(0.0, 0.0), [0.0; 3]);
+        let (slow, fast) = (at(0.1, 10.0), at(0.2, -10.0));
+        assert!(fast[0] > 2.0 * slow[0] - 1e-12, "{slow:?} {fast:?}");
+        assert!(slow[2] > 0.0 && fast[2] < 0.0 && (slow[2] + fast[2]).abs() < 1e-12);
+        assert!(at(-0.1, 0.0)[0] < 0.0);
     }
 
     #[test]
@@ -531,7 +792,7 @@ mod tests {
         let mut t = 0.0;
         let mut corrections = 0;
         let back = loop {
-            let out = kick.update(req, t, false, 0.0, k, w);
+            let out = kick.update(req, t, body(false, 0.0), k, w);
             match out {
                 KickOutput::Walk(Some(v)) if v.forward_m_s < 0.0 && v.sideways_m_s == 0.0 => {
                     break v;
@@ -567,7 +828,7 @@ mod tests {
             distance_m: k.long_kick_from_m / 2.0,
         };
         let mut t = 0.0;
-        while kick.update(req, t, false, 0.0, k, w) != KickOutput::Motion {
+        while kick.update(req, t, body(false, 0.0), k, w) != KickOutput::Motion {
             t += 0.02;
             assert!(t < 5.0);
         }

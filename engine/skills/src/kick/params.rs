@@ -86,6 +86,21 @@ pub struct KickApproach {
     /// Near the place: how long to stand still and look before judging the errors [s], and
     /// how long each correction walk lasts [s].
     pub look_s: f64,
+    /// The look ends early, after `steady_look_s` [s], when every ball position asked for
+    /// since the robot stopped lies within `steady_m` [m] (per axis) of each other: a ball in
+    /// view with a steady estimate needs no longer look.
+    pub steady_look_s: f64,
+    pub steady_m: f64,
+    /// While walking, the kicking place counts as reached when the robot would come to rest
+    /// within the tolerances if asked to stop now: braking at the walk's acceleration limits
+    /// plus this many steps' length at the executed speed (the step under way is finished).
+    pub stop_lead_steps: f64,
+    /// Walking (on the move or in a correction), the robot stops for the kick only within
+    /// this fraction of the tolerances: it still is within them after the stop and the look.
+    pub stop_within: f64,
+    /// Before the kick starts (and before the errors are judged) the torso rates must have
+    /// stayed below `calm_rate_deg_s` for this long [s].
+    pub calm_s: f64,
     /// After this many looks at the kicking place that found it not ready, the robot steps
     /// back for `retreat_s` (at `align_speed_m_s`) and approaches afresh.
     pub looks_before_retreat: u32,
@@ -204,6 +219,11 @@ impl KickParams {
         in_range(&p("ready_across_m"), a.ready_across_m, 0.001, 0.5)?;
         in_range(&p("ready_deg"), a.ready_deg, 0.1, 45.0)?;
         in_range(&p("look_s"), a.look_s, 0.0, 5.0)?;
+        in_range(&p("steady_look_s"), a.steady_look_s, 0.0, a.look_s)?;
+        in_range(&p("steady_m"), a.steady_m, 0.0, 0.5)?;
+        in_range(&p("stop_lead_steps"), a.stop_lead_steps, 0.0, 5.0)?;
+        in_range(&p("stop_within"), a.stop_within, 0.1, 1.0)?;
+        in_range(&p("calm_s"), a.calm_s, 0.0, 5.0)?;
         in_range(
             &p("looks_before_retreat"),
             f64::from(a.looks_before_retreat),

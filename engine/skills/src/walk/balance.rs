@@ -47,6 +47,18 @@ pub struct Corrections {
     pub hip_roll: f64,
 }
 
+impl Corrections {
+    /// Every offset times `k`.
+    pub fn scaled(self, k: f64) -> Self {
+        Self {
+            ankle_pitch: self.ankle_pitch * k,
+            hip_pitch: self.hip_pitch * k,
+            ankle_roll: self.ankle_roll * k,
+            hip_roll: self.hip_roll * k,
+        }
+    }
+}
+
 /// The ankle and hip strategies: push against the measured tilt and its rate.
 pub fn corrections(p: &BalanceParams, attitude: &Attitude, lean_deg: f64) -> Corrections {
     let limit = |v: f64| v.clamp(-p.max_correction_deg, p.max_correction_deg);

@@ -185,9 +185,10 @@ impl Walk {
                         // Leaning back, the next step lands further back to catch the body
                         // (and further forward when leaning forward).
                         let tilt = Attitude::from_world(world).pitch_deg - p.torso_lean_deg;
+                        let stopping = request.is_none() && self.executed.is_zero();
                         let step = Step {
                             x: self.executed.forward_m_s * p.step_period_s
-                                + p.balance.step_x_per_tilt_m * tilt,
+                                + capture_x(tilt, stopping, &p.balance),
                             y: self.executed.sideways_m_s * p.step_period_s,
                             yaw_deg: self.executed.turn_deg_s * p.step_period_s,
                         };
@@ -228,10 +229,11 @@ impl Walk {
             }
         }
         let attitude = Attitude::from_world(world);
+        let c = corrections(&p.balance, &attitude, p.torso_lean_deg);
         let c = if self.phase == Phase::Walking {
-            corrections(&p.balance, &attitude, p.torso_lean_deg)
+            c
         } else {
-            Default::default()
+            c.scaled(p.balance.rest_correction_scale)
         };
         for (k, j) in self.joints.iter().enumerate() {
             self.angles[j.ankle_pitch] += c.ankle_pitch;
@@ -293,6 +295,17 @@ pub fn clamp_command(v: Velocity, p: &WalkParams) -> Velocity {
 }
 
 /// Move `from` towards `to` by at most one cycle's worth of each acceleration limit.
+/// The capture step's shift of the next foot placement [m] for a pitch error `tilt_deg`:
+/// none for a small error while the walk is coming to a stop (`stopping`), so the feet can
+/// come together.
+fn capture_x(tilt_deg: f64, stopping: bool, b: &BalanceParams) -> f64 {
+    if stopping && tilt_deg.abs() < b.stop_capture_min_deg {
+        0.0
+    } else {
+        b.step_x_per_tilt_m * tilt_deg
+    }
+}
+
 fn rate_limit(from: Velocity, to: Velocity, p: &WalkParams, dt: f64) -> Velocity {
     let towards = |a: f64, b: f64, max_step: f64| a + (b - a).clamp(-max_step, max_step);
     Velocity {
@@ -309,6 +322,86 @@ fn rate_limit(from: Velocity, to: Velocity, p: &WalkParams, dt: f64) -> Velocity
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stop_takes_no_capture_steps_for_a_small_tilt() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let b = crate::SkillParams::builtin(&model).unwrap().walk.balance;
+        assert!(b.stop_capture_min_deg > 0.0 && b.step_x_per_tilt_m > 0.0);
+        let small = 0.5 * b.stop_capture_min_deg;
+        assert_eq!(capture_x(small, true, &b), 0.0);
+        // Walking, or leaning far, the capture step stays.
+        assert!(capture_x(small, false, &b) > 0.0);
+        let far = 2.0 * b.stop_capture_min_deg;
+        assert!(capture_x(-far, true, &b) < 0.0);
+    }
+
+    /// Cycles from a stop request after 2 s of walking until the walk stands, the torso
+    /// pitched `tilt_deg` off the walk's lean throughout.
+    fn cycles_to_stop(p: &WalkParams, tilt_deg: f64) -> usize {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut world = libero_world::World::new(&model, "t", 1);
+        world.me.pitch_deg = p.torso_lean_deg + tilt_deg;
+        let mut walk = Walk::new(&model).unwrap();
+        let mut pose = vec![0.0; model.joints.len()];
+        let ahead = Velocity {
+            forward_m_s: 0.1,
+            ..Default::default()
+        };
+        for i in 0..100 {
+            world.time = i as f64 * NOMINAL_CYCLE_S;
+            walk.update(&world, Some(ahead), p, &mut pose);
+        }
+        assert!(walk.is_stepping());
+        (1..1000)
+            .find(|i| {
+                world.time = (100 + i) as f64 * NOMINAL_CYCLE_S;
+                walk.update(&world, None, p, &mut pose);
+                !walk.is_stepping()
+            })
+            .unwrap_or(1000)
+    }
+
+    #[test]
+    fn a_small_tilt_does_not_keep_a_stopping_walk_stepping() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut p = crate::SkillParams::builtin(&model).unwrap().walk;
+        let tilt = 0.5 * p.balance.stop_capture_min_deg;
+        let quick = cycles_to_stop(&p, tilt);
+        // Braking from 0.1 m/s and closing: a few steps.
+        let steps = (quick as f64 * NOMINAL_CYCLE_S / p.step_period_s).ceil();
+        assert!(steps <= 4.0, "{quick} cycles");
+        // Capture steps always: millimetre steps go on and on.
+        p.balance.stop_capture_min_deg = 0.0;
+        assert!(cycles_to_stop(&p, tilt) > quick + 50);
+    }
+
+    #[test]
+    fn standing_in_the_walk_posture_damps_the_sway() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut p = crate::SkillParams::builtin(&model).unwrap().walk;
+        assert!(p.balance.rest_correction_scale > 0.0);
+        let mut world = libero_world::World::new(&model, "t", 1);
+        world.me.pitch_deg = p.torso_lean_deg;
+        let roll = model.joint_id("left_ankle_roll").unwrap();
+        let mut at_rest = |p: &WalkParams, rate: f64| {
+            world.body.gyro = [rate, 0.0, 0.0];
+            let mut walk = Walk::new(&model).unwrap();
+            let mut pose = vec![0.0; model.joints.len()];
+            walk.update(&world, None, p, &mut pose);
+            assert!(!walk.is_stepping());
+            pose[roll]
+        };
+        let still = at_rest(&p, 0.0);
+        let swaying = at_rest(&p, 10.0);
+        let expected = p.balance.rest_correction_scale * p.balance.ankle_roll_per_gyro * 10.0;
+        assert!(
+            (swaying - still - expected).abs() < 1e-9,
+            "{still} {swaying}"
+        );
+        p.balance.rest_correction_scale = 0.0;
+        assert_eq!(at_rest(&p, 10.0), at_rest(&p, 0.0));
+    }
 
     #[test]
     fn one_axis_gets_its_full_limit_and_combinations_share_it() {

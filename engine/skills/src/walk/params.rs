@@ -60,6 +60,16 @@ pub struct BalanceParams {
     pub hip_roll_per_gyro: f64,
     /// Foot placement shift per degree of pitch error [m/deg] (capture-step style).
     pub step_x_per_tilt_m: f64,
+    /// Coming to a stop (no command, none left to execute), the closing steps take no
+    /// capture step while the pitch error is below this [deg]: the steps of a few millimetres
+    /// it asks for keep the feet from coming together, and the stop goes on for seconds.
+    /// 0: capture steps always (absent from a file: 0).
+    #[serde(default)]
+    pub stop_capture_min_deg: f64,
+    /// Standing in the walk's posture (stopped, or settling before the first step), this
+    /// fraction of the walking corrections damps the body's sway (0: none; absent: 0).
+    #[serde(default)]
+    pub rest_correction_scale: f64,
     /// Largest correction any joint gets from the loop [deg].
     pub max_correction_deg: f64,
 }
@@ -198,6 +208,18 @@ impl WalkParams {
             b.step_x_per_tilt_m,
             -0.05,
             0.05,
+        )?;
+        in_range(
+            &format!("{w}.balance.rest_correction_scale"),
+            b.rest_correction_scale,
+            0.0,
+            2.0,
+        )?;
+        in_range(
+            &format!("{w}.balance.stop_capture_min_deg"),
+            b.stop_capture_min_deg,
+            0.0,
+            30.0,
         )?;
         in_range(
             &format!("{w}.balance.max_correction_deg"),

@@ -216,13 +216,20 @@ impl AgentHost<'_> {
     pub(crate) fn kick_to(&mut self, target: Own, distance: f64, lost_after: f64) -> Status {
         let world = self.world;
         let ball_age = world.ball.age(world.time);
-        if !world.me.localized || ball_age > 0.5 {
+        if ball_age > lost_after {
             self.look_for_ball();
-            return if ball_age > lost_after {
-                Status::Failure
-            } else {
-                Status::Running
-            };
+            return Status::Failure;
+        }
+        // Once the kick skill has the ball, it keeps it on its own estimate through short gaps
+        // (a ball behind the robot at the hand-over cannot be looked at): dropping the request
+        // for a search restarted the skill every cycle.
+        let kicking = matches!(
+            self.skills.kick,
+            KickState::Approaching | KickState::Kicking
+        );
+        if !world.me.localized || (ball_age > 0.5 && !kicking) {
+            self.look_for_ball();
+            return Status::Running;
         }
         // The kick skill reports `Done` until it is asked for something else: succeed and ask
         // for nothing, so the next kick starts afresh.
