@@ -408,8 +408,13 @@ mod tests {
 
     const PROBE: &str = "LIBERO_SPAWN_PROBE";
 
+    /// The port tests take turns: each binds ports the other may just have chosen (a fresh-clone
+    /// CI run lost the requested-port test to the other one's bind).
+    static PORT_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
     #[test]
     fn chosen_ports_are_free_distinct_and_outside_the_ephemeral_range() {
+        let _turn = PORT_TESTS.lock().unwrap_or_else(|p| p.into_inner());
         for _ in 0..20 {
             let (a, m) = choose_ports(None, None).unwrap();
             assert_ne!(a, m);
@@ -425,6 +430,7 @@ mod tests {
 
     #[test]
     fn a_requested_port_that_is_taken_is_named() {
+        let _turn = PORT_TESTS.lock().unwrap_or_else(|p| p.into_inner());
         let taken = TcpListener::bind(("127.0.0.1", 0)).unwrap();
         let port = taken.local_addr().unwrap().port();
         assert!(matches!(
