@@ -115,23 +115,29 @@ fn shots_are_launched_measured_and_judged_from_ground_truth() {
     assert!(wall.elapsed().as_secs() < 120, "took {:?}", wall.elapsed());
 }
 
+/// `runs` runs of the shipped `scenarios/<name>.ron`, with one line per run for messages.
+fn shipped_series(name: &str, runs: usize, seed: u64) -> (libero_scenario::Summary, Vec<String>) {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../scenarios/{name}.ron"));
+    let text = std::fs::read_to_string(&file).unwrap();
+    let mut report = Report::default();
+    let scenario = load_text(&file, text, &mut report).expect("the shipped file loads");
+    let (summary, error) = run_series(&scenario, &file, &data(), runs, seed, |_| {});
+    assert!(error.is_none(), "{error:?}");
+    let lines = summary
+        .runs
+        .iter()
+        .map(libero_scenario::Summary::run_line)
+        .collect();
+    (summary, lines)
+}
+
 /// The shipped keeper scenario, shortened for CI: our keeper keeps most shots out. With the
 /// keeper of the previous wave (walking to its formation spot) about 1 in 20 was kept out;
 /// this one keeps 80-85 % (NOTES.md), so 6 of 10 fails only when the keeper breaks.
 #[test]
 fn the_keeper_keeps_most_shots_out() {
     let _turn = live_turn();
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/keeper_shots.ron");
-    let text = std::fs::read_to_string(&file).unwrap();
-    let mut report = Report::default();
-    let scenario = load_text(&file, text, &mut report).expect("the shipped file loads");
-    let (summary, error) = run_series(&scenario, &file, &data(), 10, 11, |_| {});
-    assert!(error.is_none(), "{error:?}");
-    let lines: Vec<String> = summary
-        .runs
-        .iter()
-        .map(libero_scenario::Summary::run_line)
-        .collect();
+    let (summary, lines) = shipped_series("keeper_shots", 10, 11);
     let kept = summary.runs.iter().filter(|r| r.success).count();
     assert!(
         kept >= 6,
@@ -220,17 +226,7 @@ fn shot_file_edits_change_where_the_ball_goes() {
 #[test]
 fn the_striker_walks_round_a_wall_to_the_ball() {
     let _turn = live_turn();
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenarios/striker_wall.ron");
-    let text = std::fs::read_to_string(&file).unwrap();
-    let mut report = Report::default();
-    let scenario = load_text(&file, text, &mut report).expect("the shipped file loads");
-    let (summary, error) = run_series(&scenario, &file, &data(), 4, 7, |_| {});
-    assert!(error.is_none(), "{error:?}");
-    let lines: Vec<String> = summary
-        .runs
-        .iter()
-        .map(libero_scenario::Summary::run_line)
-        .collect();
+    let (summary, lines) = shipped_series("striker_wall", 4, 7);
     let clean = summary.runs.iter().filter(|r| r.success).count();
     assert!(
         clean >= 2,

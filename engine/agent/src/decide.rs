@@ -119,14 +119,14 @@ impl Decider for TreeDecider {
             }
         }
         if let Some(runner) = self.runner.as_mut() {
-            let mut host = AgentHost {
+            let mut host = AgentHost::new(
                 world,
-                strategy: strategy_of(&library),
-                natives: &self.natives,
-                skills: &self.skills,
-                memory: &mut self.memory,
-                intent: &mut intent,
-            };
+                strategy_of(&library),
+                &self.natives,
+                &self.skills,
+                &mut self.memory,
+                &mut intent,
+            );
             runner.tick(&mut host, &library);
         }
         intent

@@ -57,14 +57,14 @@ fn tick(tree: &str, world: &World, memory: &mut PlayerMemory) -> Intent {
         ..SkillStatus::default()
     };
     let mut intent = Intent::default();
-    let mut host = AgentHost {
+    let mut host = AgentHost::new(
         world,
-        strategy: strategy_of(&library),
-        natives: &natives,
-        skills: &skills,
+        strategy_of(&library),
+        &natives,
+        &skills,
         memory,
-        intent: &mut intent,
-    };
+        &mut intent,
+    );
     runner.tick(&mut host, &library);
     intent
 }

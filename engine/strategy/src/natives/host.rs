@@ -22,6 +22,37 @@ pub struct AgentHost<'a> {
     pub skills: &'a SkillStatus,
     pub memory: &'a mut PlayerMemory,
     pub intent: &'a mut Intent,
+    /// Answers several nodes ask for in one tick (a condition, then the action it guards),
+    /// computed once.
+    pub(crate) tick: TickCache,
+}
+
+/// Per-tick answers shared between nodes.
+#[derive(Debug, Default)]
+pub(crate) struct TickCache {
+    pub(crate) best_shot: std::cell::OnceCell<crate::shot::ShotChoice>,
+    pub(crate) shot_on_goal: std::cell::OnceCell<Option<crate::goalkeeper::Shot>>,
+}
+
+impl<'a> AgentHost<'a> {
+    pub fn new(
+        world: &'a World,
+        strategy: &'a Strategy,
+        natives: &'a Natives,
+        skills: &'a SkillStatus,
+        memory: &'a mut PlayerMemory,
+        intent: &'a mut Intent,
+    ) -> Self {
+        Self {
+            world,
+            strategy,
+            natives,
+            skills,
+            memory,
+            intent,
+            tick: TickCache::default(),
+        }
+    }
 }
 
 /// A tree value (always own frame) as a typed own-frame point.

@@ -181,6 +181,10 @@ impl AgentHost<'_> {
     /// estimate, the closest approach does not move with a constant error of that estimate (a
     /// few degrees of yaw put the path's crossing of a field line a metre off at 8 m).
     pub(crate) fn shot_on_goal(&self) -> Option<Shot> {
+        *self.tick.shot_on_goal.get_or_init(|| self.predict_shot())
+    }
+
+    fn predict_shot(&self) -> Option<Shot> {
         let world = self.world;
         let keeper = self.goalkeeper();
         let ball = &world.ball;

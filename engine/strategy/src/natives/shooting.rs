@@ -77,12 +77,14 @@ impl AgentHost<'_> {
     }
 
     pub(crate) fn best_shot(&self) -> ShotChoice {
-        let params = self.strategy.shot.unwrap_or_default();
-        params.best(
-            self.ball(),
-            &self.strategy.field(),
-            &self.skills.kick_spread,
-            &self.defenders(),
-        )
+        *self.tick.best_shot.get_or_init(|| {
+            let params = self.strategy.shot.unwrap_or_default();
+            params.best(
+                self.ball(),
+                &self.strategy.field(),
+                &self.skills.kick_spread,
+                &self.defenders(),
+            )
+        })
     }
 }

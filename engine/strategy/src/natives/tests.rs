@@ -62,14 +62,14 @@ mod kick_to {
         };
         let mut memory = PlayerMemory::default();
         let mut intent = Intent::default();
-        let mut host = AgentHost {
+        let mut host = AgentHost::new(
             world,
-            strategy: strategy_of(&library),
-            natives: &natives,
-            skills: &skills,
-            memory: &mut memory,
-            intent: &mut intent,
-        };
+            strategy_of(&library),
+            &natives,
+            &skills,
+            &mut memory,
+            &mut intent,
+        );
         let id = vocabulary.find(NativeKind::Action, "KickTo").unwrap();
         let args = [Value::Vec2(target), Value::Float(0.0), Value::Float(4.0)];
         let status = host.action(id, Args(&args));
