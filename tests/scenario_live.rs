@@ -234,3 +234,20 @@ fn the_striker_walks_round_a_wall_to_the_ball() {
         lines.join("\n")
     );
 }
+
+/// The shipped dribble scenario, shortened for CI: from midfield, where no shot is on, the
+/// field player walks the ball on towards their goal. With the previous wave's 2 m short kicks
+/// none of 20 runs got the ball 5 m in 20 s; the dribble does it in about 2 of 3 (NOTES.md,
+/// "Dribble"), so 2 of 6 fails only when the dribble breaks.
+#[test]
+fn the_field_player_dribbles_the_ball_on() {
+    let _turn = live_turn();
+    let (summary, lines) = shipped_series("dribble", 6, 3);
+    let moved = summary.runs.iter().filter(|r| r.success).count();
+    assert!(
+        moved >= 2,
+        "the ball got 5 m in {moved} of {} runs:\n{}",
+        summary.runs.len(),
+        lines.join("\n")
+    );
+}

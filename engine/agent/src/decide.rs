@@ -69,6 +69,8 @@ pub struct TreeDecider {
     unum: u32,
     /// What the skills made of the previous cycle's intent (a kick node waits for `Done`).
     skills: SkillStatus,
+    /// The active path last logged (`RUST_LOG=libero_agent::decide=debug` logs each change).
+    logged_path: Option<String>,
 }
 
 impl TreeDecider {
@@ -81,6 +83,7 @@ impl TreeDecider {
             field_checked: None,
             unum,
             skills: SkillStatus::default(),
+            logged_path: None,
         }
     }
 
@@ -128,6 +131,18 @@ impl Decider for TreeDecider {
                 &mut intent,
             );
             runner.tick(&mut host, &library);
+        }
+        if log::log_enabled!(log::Level::Debug) {
+            let path = self.trace_line();
+            if path != self.logged_path {
+                log::debug!(
+                    "t {:.2} player {}: {}",
+                    world.time,
+                    self.unum,
+                    path.as_deref().unwrap_or("-")
+                );
+                self.logged_path = path;
+            }
         }
         intent
     }

@@ -4,6 +4,7 @@
 //! Switching between skills blends the joint targets over the walk's `settle_s`, so no skill
 //! has to start from an exact posture.
 
+pub mod dribble;
 pub mod getup;
 pub mod intent;
 pub mod kick;
@@ -12,6 +13,7 @@ pub mod pose;
 pub mod save;
 pub mod walk;
 
+pub use dribble::{DribbleParams, DribbleState};
 pub use intent::{BodyIntent, HeadIntent, Intent};
 pub use kick::{KickParams, KickState};
 pub use params::{ParamsError, SkillParams};
@@ -29,6 +31,8 @@ pub enum ActiveSkill {
     Walk,
     GetUp,
     Kick,
+    /// Dribbling: walking the ball along.
+    Dribble,
     /// A goalkeeper save (dive or block), or lying still after a dive until the get-up starts.
     Save,
 }
@@ -38,6 +42,7 @@ pub enum ActiveSkill {
 pub struct SkillStatus {
     pub active: ActiveSkill,
     pub kick: KickState,
+    pub dribble: DribbleState,
     /// The long kick's measured spread (from the parameter file).
     pub kick_spread: kick::KickSpread,
     pub save: SaveState,
@@ -48,6 +53,7 @@ impl Default for SkillStatus {
         Self {
             active: ActiveSkill::Stand,
             kick: KickState::Idle,
+            dribble: DribbleState::Idle,
             kick_spread: kick::KickSpread::default(),
             save: SaveState::Idle,
         }
@@ -68,6 +74,7 @@ pub struct Skills {
     stand: Vec<f64>,
     walk: Walk,
     kick: kick::Kick,
+    dribble: dribble::Dribble,
     get_up: getup::GetUp,
     save: save::Save,
     /// The pose a dive ended in, held while the robot lies and the request is still held
@@ -91,6 +98,7 @@ impl Skills {
         Ok(Self {
             walk: Walk::new(model)?,
             kick: kick::Kick::new(model)?,
+            dribble: dribble::Dribble::default(),
             get_up: getup::GetUp::new(),
             save: save::Save::new(),
             after_dive: None,
@@ -149,6 +157,7 @@ impl Skills {
         SkillStatus {
             active: self.active,
             kick: self.kick.state(),
+            dribble: self.dribble.state(),
             kick_spread: self.params.kick.measured,
             save: self.save.state(),
         }
@@ -223,8 +232,35 @@ impl Skills {
                 None
             }
         };
+        let dribble = match intent.body {
+            BodyIntent::Dribble {
+                ball,
+                direction_deg,
+            } if !saving => {
+                Some(
+                    self.dribble
+                        .update(ball, direction_deg, &self.params.dribble, walk_params),
+                )
+            }
+            _ => {
+                self.dribble.reset();
+                None
+            }
+        };
+        if let Some(v) = dribble {
+            log::trace!(
+                "t {:.2} dribble {:?} asks {:.2} {:.2} {:.0} executes {:?}",
+                world.time,
+                self.dribble.state(),
+                v.forward_m_s,
+                v.sideways_m_s,
+                v.turn_deg_s,
+                self.walk.executed()
+            );
+        }
         let request = match intent.body {
             BodyIntent::Stand | BodyIntent::GetUp | BodyIntent::Dive { .. } => None,
+            BodyIntent::Dribble { .. } => dribble,
             BodyIntent::Kick { .. } => match kick {
                 Some(kick::KickOutput::Walk(v)) => v,
                 _ => None,
@@ -291,11 +327,20 @@ impl Skills {
             // over backwards.
             self.walk
                 .update(world, request, walk_params, &mut self.pose);
-            ActiveSkill::Walk
+            if dribble.is_some() {
+                ActiveSkill::Dribble
+            } else {
+                ActiveSkill::Walk
+            }
         } else {
             ActiveSkill::Stand
         };
-        if let (Some(_), BodyIntent::Kick { ball, .. }) = (kick, intent.body) {
+        let watched_ball = match intent.body {
+            BodyIntent::Kick { ball, .. } if kick.is_some() => Some(ball),
+            BodyIntent::Dribble { ball, .. } if dribble.is_some() => Some(ball),
+            _ => None,
+        };
+        if let Some(ball) = watched_ball {
             // Keep the ball in view: while walking round it, it is beside the robot, and an
             // estimate not refreshed by sightings drifts (a bump, a phantom chase). During the
             // kick motion the head stays still, looking down at the feet.
@@ -350,7 +395,10 @@ impl Skills {
                 out.set_gains(model, &joint, g.kp, g.kd);
             }
         }
-        if matches!(self.active, ActiveSkill::Walk | ActiveSkill::Kick) {
+        if matches!(
+            self.active,
+            ActiveSkill::Walk | ActiveSkill::Dribble | ActiveSkill::Kick
+        ) {
             for (joint, g) in &self.params.walk.leg_gains {
                 for side in ["left", "right"] {
                     out.set_gains(model, &format!("{side}_{joint}"), g.kp, g.kd);

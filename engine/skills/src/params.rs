@@ -1,5 +1,6 @@
 //! Skill parameters as RON data, checked against the robot model on load.
 
+use crate::dribble::DribbleParams;
 use crate::getup::GetUpParams;
 use crate::kick::KickParams;
 use crate::save::SaveParams;
@@ -27,6 +28,9 @@ pub struct SkillParams {
     pub walk: WalkParams,
     pub get_up: GetUpParams,
     pub kick: KickParams,
+    /// Walking the ball along (a file without them dribbles with the defaults).
+    #[serde(default)]
+    pub dribble: DribbleParams,
     /// Goalkeeper saves (dives, block); a file without them cannot save.
     #[serde(default)]
     pub save: SaveParams,
@@ -125,6 +129,7 @@ impl SkillParams {
         }
         self.get_up.validate(model).map_err(invalid)?;
         self.kick.validate().map_err(invalid)?;
+        self.dribble.validate().map_err(invalid)?;
         self.save.validate(model).map_err(invalid)?;
         for motion in [&self.kick.short, &self.kick.long] {
             for joint in motion.swing_gains.keys() {

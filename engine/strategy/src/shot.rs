@@ -26,6 +26,10 @@ pub struct ShotParams {
     pub block_radius_m: f64,
     /// Shoot when the best target's scoring probability reaches this.
     pub threshold: f64,
+    /// Once good, a shot stays good until its probability falls this far below the
+    /// threshold (estimates jitter; without it the player swapped between shooting and
+    /// dribbling every few cycles, restarting each skill).
+    pub hysteresis: f64,
 }
 
 impl Default for ShotParams {
@@ -39,6 +43,7 @@ impl Default for ShotParams {
             keeper_speed_m_s: 0.6,
             block_radius_m: 0.35,
             threshold: 0.3,
+            hysteresis: 0.1,
         }
     }
 }

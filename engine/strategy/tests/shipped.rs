@@ -129,7 +129,7 @@ fn field_player_beams_to_its_kick_off_position_before_kick_off() {
 }
 
 #[test]
-fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on() {
+fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_dribbles_towards_it() {
     // 8 m out in front of an empty goal: the shot's chance clears the threshold.
     let w = world(
         5,
@@ -151,7 +151,7 @@ fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on()
     assert!(crossing_y.abs() < 1.83, "aims at y = {crossing_y:.2}");
     assert!(distance_m > 7.0, "a long kick: {distance_m}");
 
-    // 30 m out the shot has no chance: a short push towards the goal.
+    // 30 m out the shot has no chance: the ball, 1 m ahead, is walked on towards the goal.
     let w = world(
         5,
         Own::new(-4.0, 0.0),
@@ -159,10 +159,17 @@ fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_pushes_the_ball_on()
         PlayMode::PlayOn,
     );
     let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
-    let BodyIntent::Kick { distance_m, .. } = intent.body else {
-        panic!("no kick: {:?}", intent.body)
+    let BodyIntent::Dribble {
+        ball,
+        direction_deg,
+    } = intent.body
+    else {
+        panic!("no dribble: {:?}", intent.body)
     };
-    assert!((distance_m - 2.0).abs() < 1e-9, "{distance_m}");
+    let at = own_of(&w, ball);
+    assert!((at.x + 3.0).abs() < 0.05 && at.y.abs() < 0.05, "{at:?}");
+    // The robot faces their goal, straight beyond the ball.
+    assert!(direction_deg.abs() < 1.0, "{direction_deg}");
 }
 
 #[test]

@@ -57,7 +57,7 @@ pub fn natural_foot(ball: [f64; 2], direction_deg: f64) -> Foot {
 }
 
 /// Distance from `c` to the segment from `a` to `b`.
-fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>) -> f64 {
+pub(crate) fn segment_distance(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>) -> f64 {
     let ab = b - a;
     let s = if ab.norm_squared() > 0.0 {
         ((c - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0)
@@ -179,21 +179,16 @@ pub fn step(
             ApproachStep::Align(v)
         };
     }
-    let target = if segment_distance(robot, p, b) >= a.clearance_m {
-        p
-    } else {
-        // Around the ball: the next point on the clearance circle, turning from where the robot
-        // is towards the kicking place the shorter way.
-        let from = robot - b;
-        let to = p - b;
-        let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
-        let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
-        let radius = a.circle_radius_m;
-        let dir =
-            Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
-        b + dir * radius
-    };
-    let v = walk_to::velocity_towards([target.x, target.y], heading_error, w).unwrap_or_default();
+    let v = walk_round_ball(
+        b,
+        p,
+        heading_error,
+        Clearance {
+            clearance_m: a.clearance_m,
+            circle_radius_m: a.circle_radius_m,
+        },
+        w,
+    );
     let v = v.capped(Some(a.approach_speed_m_s));
     ApproachStep::Walk(Velocity {
         turn_deg_s: v
@@ -201,6 +196,44 @@ pub fn step(
             .clamp(-a.approach_turn_deg_s, a.approach_turn_deg_s),
         ..v
     })
+}
+
+/// How wide a berth the robot gives the ball on its way to a place beside or behind it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clearance {
+    /// Straight paths keep the torso at least this far from the ball centre [m] ...
+    pub clearance_m: f64,
+    /// ... otherwise the robot walks round the ball on a circle of this radius [m].
+    pub circle_radius_m: f64,
+}
+
+/// The walk command towards `place` (robot frame) ending with heading `heading_deg` (relative
+/// to the current one), never through the ball at `ball`: a straight path that would pass it
+/// closer than the clearance becomes a walk round it on the clearance circle, towards the
+/// place the shorter way.
+pub fn walk_round_ball(
+    ball: Vector2<f64>,
+    place: Vector2<f64>,
+    heading_deg: f64,
+    c: Clearance,
+    w: &WalkParams,
+) -> Velocity {
+    let (b, p) = (ball, place);
+    let robot = Vector2::zeros();
+    let target = if segment_distance(robot, p, b) >= c.clearance_m {
+        p
+    } else {
+        // Around the ball: the next point on the clearance circle, turning from where the robot
+        // is towards the place the shorter way.
+        let from = robot - b;
+        let to = p - b;
+        let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
+        let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
+        let dir =
+            Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
+        b + dir * c.circle_radius_m
+    };
+    walk_to::velocity_towards([target.x, target.y], heading_deg, w).unwrap_or_default()
 }
 
 #[cfg(test)]

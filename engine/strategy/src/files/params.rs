@@ -132,6 +132,7 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
     let keeper_speed_m_s = num("keeper_speed_m_s", 0.0, 5.0, d.keeper_speed_m_s);
     let block_radius_m = num("block_radius_m", 0.0, 3.0, d.block_radius_m);
     let threshold = num("threshold", 0.0, 1.0, d.threshold);
+    let hysteresis = num("hysteresis", 0.0, 1.0, d.hysteresis);
     fields.finish(
         decoder,
         &[
@@ -143,6 +144,7 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
             "keeper_speed_m_s",
             "block_radius_m",
             "threshold",
+            "hysteresis",
         ],
     );
     Some(ShotParams {
@@ -154,6 +156,7 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
         keeper_speed_m_s: keeper_speed_m_s?,
         block_radius_m: block_radius_m?,
         threshold: threshold?,
+        hysteresis: hysteresis?,
     })
 }
 

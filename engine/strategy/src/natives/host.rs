@@ -11,6 +11,8 @@ use libero_world::{Global, Own, World};
 #[derive(Debug, Clone, Default)]
 pub struct PlayerMemory {
     pub avoidance: crate::avoidance::Planner,
+    /// When `ShotIsGood` last held (conditions only read the host: hence a cell).
+    pub shot_good_at: std::cell::Cell<Option<f64>>,
 }
 
 /// One tick's view of the world, and the intent it fills in.

@@ -8,6 +8,7 @@
 //! [`catalogue`] is the single source of `libero validate`, `libero nodes` and dispatch, so a
 //! new node is one declaration, one handler and one entry in its group's list.
 
+mod dribbling;
 mod game;
 mod host;
 mod keeper;
@@ -75,6 +76,7 @@ pub fn catalogue() -> impl Iterator<Item = &'static Native> {
     [
         game::NODES,
         motion::NODES,
+        dribbling::NODES,
         queries::NODES,
         keeper::NODES,
         shooting::NODES,

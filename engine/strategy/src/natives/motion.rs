@@ -152,7 +152,7 @@ fn kick_to(host: &mut AgentHost, ports: &Ports) -> Status {
 }
 
 impl AgentHost<'_> {
-    fn look_for_ball(&mut self) {
+    pub(crate) fn look_for_ball(&mut self) {
         self.intent.head = HeadIntent::LookAround {
             amplitude_deg: None,
             period_s: None,

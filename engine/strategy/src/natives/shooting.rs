@@ -40,13 +40,29 @@ fn shot_utility(host: &AgentHost, _: &Ports) -> Value {
 fn shot_is_good_ports() -> NodeSpec {
     NodeSpec::condition(
         "ShotIsGood",
-        "True when `shot_utility` reaches the threshold in formations/shot.ron.",
+        "True when `shot_utility` reaches the threshold in formations/shot.ron; once true, it stays true until the utility falls `hysteresis` below the threshold.",
     )
 }
 
+/// A shot judged good this recently still counts as chosen (the tick before) [s].
+const CHOSEN_WITHIN_S: f64 = 0.5;
+
 fn shot_is_good(host: &AgentHost, _: &Ports) -> bool {
     let params = host.strategy.shot.unwrap_or_default();
-    host.best_shot().probability >= params.threshold
+    let now = host.world.time;
+    let chosen = host
+        .memory
+        .shot_good_at
+        .get()
+        .is_some_and(|at| (0.0..=CHOSEN_WITHIN_S).contains(&(now - at)));
+    let bar = if chosen {
+        params.threshold - params.hysteresis
+    } else {
+        params.threshold
+    };
+    let good = host.best_shot().probability >= bar;
+    host.memory.shot_good_at.set(good.then_some(now));
+    good
 }
 
 impl AgentHost<'_> {

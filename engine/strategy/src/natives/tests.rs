@@ -161,3 +161,161 @@ mod kick_to {
         assert_eq!(status, Status::Failure);
     }
 }
+
+mod dribble_to {
+    use crate::{strategy_of, AgentHost, Natives, PlayerMemory};
+    use libero_behavior::{Args, Host, NativeKind, Status, Value, Vec2};
+    use libero_skills::{BodyIntent, DribbleState, HeadIntent, Intent, SkillStatus};
+    use libero_world::{Side, World};
+
+    fn tick(world: &World, target: Vec2, dribble: DribbleState) -> (Status, Intent) {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+        let vocabulary = crate::vocabulary();
+        let natives = Natives::new();
+        let skills = SkillStatus {
+            dribble,
+            ..SkillStatus::default()
+        };
+        let mut memory = PlayerMemory::default();
+        let mut intent = Intent::default();
+        let mut host = AgentHost::new(
+            world,
+            strategy_of(&library),
+            &natives,
+            &skills,
+            &mut memory,
+            &mut intent,
+        );
+        let id = vocabulary.find(NativeKind::Action, "DribbleTo").unwrap();
+        let args = [Value::Vec2(target), Value::Float(0.5), Value::Float(4.0)];
+        let status = host.action(id, Args(&args));
+        (status, intent)
+    }
+
+    /// The right team (own frame = global turned 180°), facing the opponents' goal, the ball
+    /// 0.8 m ahead (own (0, 2)).
+    fn world(me_own_x: f64) -> World {
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let mut world = World::new(&model, "Libero", 2);
+        world.game.side = Some(Side::Right);
+        world.time = 10.0;
+        world.me.localized = true;
+        world.me.position = [-me_own_x, -2.0];
+        world.me.yaw_deg = 180.0;
+        world.ball.position = [0.0, -2.0];
+        world.ball.last_seen_time = Some(10.0);
+        world
+    }
+
+    #[test]
+    fn near_the_ball_it_asks_the_skill_to_walk_it_along_the_line_to_the_target() {
+        // Target ahead and to the left of the ball (own +x, +y): 45° to the left.
+        let (status, intent) = tick(&world(-0.8), Vec2::new(4.0, 6.0), DribbleState::Idle);
+        assert_eq!(status, Status::Running);
+        let BodyIntent::Dribble {
+            ball,
+            direction_deg,
+        } = intent.body
+        else {
+            panic!("no dribble: {:?}", intent.body)
+        };
+        assert!(
+            (ball[0] - 0.8).abs() < 1e-9 && ball[1].abs() < 1e-9,
+            "{ball:?}"
+        );
+        assert!((direction_deg - 45.0).abs() < 1e-6, "{direction_deg}");
+        // The dribble skill keeps the head on the ball itself.
+        assert_eq!(intent.head, HeadIntent::Hold);
+    }
+
+    #[test]
+    fn far_from_the_ball_it_walks_behind_it_and_there_it_succeeds() {
+        // 5 m behind the ball: walk (round obstacles) to 0.7 m behind it on the line.
+        let (status, intent) = tick(&world(-5.0), Vec2::new(4.0, 2.0), DribbleState::Idle);
+        assert_eq!(status, Status::Running);
+        let BodyIntent::WalkTo { target, .. } = intent.body else {
+            panic!("no walk: {:?}", intent.body)
+        };
+        assert!(
+            (target[0] - 4.3).abs() < 1e-6 && target[1].abs() < 1e-6,
+            "{target:?}"
+        );
+        // The ball within the tolerance of the target: done.
+        let (status, _) = tick(&world(-0.8), Vec2::new(0.3, 2.0), DribbleState::Pushing);
+        assert_eq!(status, Status::Success);
+        // Unseen for longer than `lost_after`: give up.
+        let mut w = world(-0.8);
+        w.time = 15.0;
+        let (status, _) = tick(&w, Vec2::new(4.0, 2.0), DribbleState::Pushing);
+        assert_eq!(status, Status::Failure);
+    }
+}
+
+mod shot_is_good {
+    use crate::shot::ShotParams;
+    use crate::{strategy_of, AgentHost, Natives, PlayerMemory};
+    use libero_behavior::{Args, Host, NativeKind};
+    use libero_skills::{Intent, SkillStatus};
+    use libero_world::{Side, World};
+
+    /// One `ShotIsGood` with the shipped files but `threshold`; the memory carries over.
+    fn good(world: &World, threshold: f64, memory: &mut PlayerMemory) -> bool {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+        let mut strategy = strategy_of(&library).clone();
+        strategy.shot = Some(ShotParams {
+            threshold,
+            hysteresis: 0.1,
+            ..strategy.shot.unwrap()
+        });
+        let natives = Natives::new();
+        let skills = SkillStatus {
+            kick_spread: libero_skills::kick::KickSpread {
+                direction_sd_deg: 2.6,
+                distance_m: 11.1,
+                distance_sd_m: 1.3,
+            },
+            ..SkillStatus::default()
+        };
+        let mut intent = Intent::default();
+        let host = AgentHost::new(world, &strategy, &natives, &skills, memory, &mut intent);
+        let id = crate::vocabulary()
+            .find(NativeKind::Condition, "ShotIsGood")
+            .unwrap();
+        host.condition(id, Args(&[]))
+    }
+
+    #[test]
+    fn once_good_a_shot_stays_good_until_it_falls_below_the_hysteresis_band() {
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let mut world = World::new(&model, "Libero", 7);
+        world.game.side = Some(Side::Left);
+        world.time = 10.0;
+        world.me.localized = true;
+        world.me.position = [18.0, 0.0];
+        world.ball.position = [19.0, 0.0];
+        world.ball.last_seen_time = Some(10.0);
+        let mut memory = PlayerMemory::default();
+        // Find this spot's chance by the threshold it just clears.
+        let chance = (0..100)
+            .map(|i| f64::from(i) / 100.0)
+            .rfind(|t| good(&world, *t, &mut PlayerMemory::default()))
+            .unwrap();
+        assert!(chance > 0.1, "an empty goal 8.5 m away: {chance}");
+        // Above the threshold, then the threshold rises past the chance, within the band.
+        assert!(good(&world, chance, &mut memory));
+        world.time += 0.02;
+        assert!(
+            good(&world, chance + 0.05, &mut memory),
+            "kept within the band"
+        );
+        // Not chosen before: the same threshold is not met.
+        assert!(!good(&world, chance + 0.05, &mut PlayerMemory::default()));
+        // Beyond the band it lets go, and then the plain threshold counts again.
+        world.time += 0.02;
+        assert!(!good(&world, chance + 0.15, &mut memory));
+        world.time += 0.02;
+        assert!(!good(&world, chance + 0.05, &mut memory));
+    }
+}

@@ -1,0 +1,94 @@
+//! Dribbling: walking the ball to a field point (the skill in `libero_skills::dribble`).
+
+use super::host::own;
+use super::{AgentHost, Native, Ports};
+use libero_behavior::{NodeSpec, ParamSpec, Status, Value, ValueType};
+use libero_skills::BodyIntent;
+use libero_world::Own;
+
+pub(super) const NODES: &[Native] = &[Native::action(dribble_to_ports, dribble_to)];
+
+fn dribble_to_ports() -> NodeSpec {
+    NodeSpec::action(
+        "DribbleTo",
+        "Walks the ball to a field point: round obstacles (never through the ball) to behind the ball on the line to the target, then on through it without stopping, steering and turning with the ball. Succeeds once the ball is within `tolerance` of the target; fails when the ball has not been seen for `lost_after` seconds.",
+    )
+    .param(
+        ParamSpec::new("target", ValueType::Vec2)
+            .unit("m")
+            .doc("where the ball should go, own frame"),
+    )
+    .param(
+        ParamSpec::new("tolerance", ValueType::Float)
+            .unit("m")
+            .range(0.1, 10.0)
+            .default(Value::Float(0.5))
+            .doc("the ball this close to the target is there"),
+    )
+    .param(
+        ParamSpec::new("lost_after", ValueType::Float)
+            .unit("s")
+            .range(0.5, 30.0)
+            .default(Value::Float(4.0))
+            .doc("give up when the ball is unseen this long"),
+    )
+}
+
+fn dribble_to(host: &mut AgentHost, ports: &Ports) -> Status {
+    host.dribble_to(
+        own(ports.vec2("target")),
+        ports.float("tolerance"),
+        ports.float("lost_after"),
+    )
+}
+
+impl AgentHost<'_> {
+    pub(crate) fn dribble_to(&mut self, target: Own, tolerance: f64, lost_after: f64) -> Status {
+        let world = self.world;
+        let ball_age = world.ball.age(world.time);
+        if ball_age > lost_after {
+            self.look_for_ball();
+            return Status::Failure;
+        }
+        if !world.me.localized {
+            self.look_for_ball();
+            return Status::Running;
+        }
+        let ball = self.ball();
+        if ball.distance(target) <= tolerance {
+            return Status::Success;
+        }
+        let me = self.me();
+        let direction = ball.bearing_to(target);
+        let avoidance = self.strategy.avoidance.unwrap_or_default();
+        let dribbling = self.skills.dribble != libero_skills::DribbleState::Idle;
+        // Far from the ball, walk round obstacles (the ball among them) to behind it on the
+        // line; near it the skill lines up and pushes. Once dribbling, the skill keeps the ball
+        // on its own estimate through short gaps (a ball at the feet is often out of view).
+        if !dribbling && (me.distance(ball) > avoidance.handover_m || ball_age > 0.5) {
+            if ball_age > 0.5 {
+                self.look_for_ball();
+                return Status::Running;
+            }
+            let behind =
+                ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
+            let obstacles = self.obstacles(Some(ball));
+            let field = self.strategy.field();
+            let waypoint = self
+                .memory
+                .avoidance
+                .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
+            self.walk_towards(waypoint, Some(ball), f64::INFINITY);
+            self.look_at_ball();
+            return Status::Running;
+        }
+        let heading = world
+            .pose()
+            .relative_angle(self.global_of(ball).bearing_to(self.global_of(target)));
+        self.intent.body = BodyIntent::Dribble {
+            ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
+            direction_deg: heading.to_degrees(),
+        };
+        Status::Running
+    }
+}
