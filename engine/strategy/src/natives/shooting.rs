@@ -40,7 +40,7 @@ fn shot_utility(host: &AgentHost, _: &Ports) -> Value {
 fn shot_is_good_ports() -> NodeSpec {
     NodeSpec::condition(
         "ShotIsGood",
-        "True when `shot_utility` reaches the threshold in formations/shot.ron; once true, it stays true until the utility falls `hysteresis` below the threshold.",
+        "True when `shot_utility` reaches the threshold in formations/shot.ron; once true, it stays true until the utility falls `hysteresis` below the threshold, and while the kick it chose is under way.",
     )
 }
 
@@ -55,12 +55,19 @@ fn shot_is_good(host: &AgentHost, _: &Ports) -> bool {
         .shot_good_at
         .get()
         .is_some_and(|at| (0.0..=CHOSEN_WITHIN_S).contains(&(now - at)));
+    // A kick under way for a chosen shot is seen through: the chance swings by more than the
+    // band when the keeper drops out of (or comes back into) the player's memory, and each
+    // switch back to dribbling threw the kick's approach away.
+    let kicking = matches!(
+        host.skills.kick,
+        libero_skills::KickState::Approaching | libero_skills::KickState::Kicking
+    );
     let bar = if chosen {
         params.threshold - params.hysteresis
     } else {
         params.threshold
     };
-    let good = host.best_shot().probability >= bar;
+    let good = (chosen && kicking) || host.best_shot().probability >= bar;
     host.memory.shot_good_at.set(good.then_some(now));
     good
 }
