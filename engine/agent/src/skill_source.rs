@@ -6,13 +6,13 @@
 //! once and the running version stays.
 
 use arc_swap::ArcSwap;
+use libero_behavior::files::{read_text, ReadError};
 use libero_model::RobotModel;
 use libero_skills::{ParamsError, SkillParams};
-use libero_watch::FileWatch;
+use libero_watch::{Events, FileWatch};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Duration;
 
 /// Shared by every agent of the process.
@@ -35,8 +35,11 @@ impl SkillSource {
                 model.clone(),
             )?)))
         } else {
-            Ok(SkillSource::Fixed(Arc::new(SkillParams::load(
-                path, model,
+            let text = read_params(path)?;
+            Ok(SkillSource::Fixed(Arc::new(SkillParams::from_ron(
+                &path.display().to_string(),
+                &text,
+                model,
             )?)))
         }
     }
@@ -72,8 +75,21 @@ impl SkillSource {
 pub enum ParamsEvent {
     /// A new version is live; `recovered` when it replaces a rejected edit.
     Reloaded { generation: u64, recovered: bool },
-    /// An edit had errors (the message locates them); the previous version keeps running.
+    /// An edit had errors (the message locates them), or the file could not be read (too
+    /// large, not text); the previous version keeps running.
     Rejected { message: String },
+}
+
+/// The file's text, with bounded cost whatever it holds (see [`libero_behavior::files`]).
+fn read_params(path: &Path) -> Result<String, ParamsError> {
+    read_text(path).map_err(|e| {
+        let error = match e {
+            ReadError::Io(error) => error,
+            ReadError::Missing => std::io::ErrorKind::NotFound.into(),
+            other => std::io::Error::other(other.to_string()),
+        };
+        ParamsError::Io(path.display().to_string(), error)
+    })
 }
 
 struct Shared {
@@ -84,7 +100,8 @@ struct Shared {
 /// The newest valid version of one skill parameter file.
 pub struct LiveSkillParams {
     shared: Arc<Shared>,
-    events: Mutex<Receiver<ParamsEvent>>,
+    /// The newest few events (see [`Events`]): nothing reads them in a running team.
+    events: Arc<Events<ParamsEvent>>,
     path: PathBuf,
     _watch: FileWatch,
 }
@@ -92,20 +109,20 @@ pub struct LiveSkillParams {
 impl LiveSkillParams {
     /// Load `path` (failing if it is broken now) and watch it.
     pub fn start(path: PathBuf, model: RobotModel) -> Result<Self, ParamsError> {
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| ParamsError::Io(path.display().to_string(), e))?;
+        let text = read_params(&path)?;
         let params = SkillParams::from_ron(&path.display().to_string(), &text, &model)?;
         let shared = Arc::new(Shared {
             current: ArcSwap::from_pointee(params),
             generation: AtomicU64::new(1),
         });
-        let (events_tx, events) = mpsc::channel();
+        let events = Arc::new(Events::default());
         let mut reloader = Reloader {
             path: path.clone(),
             model,
             shared: Arc::clone(&shared),
-            events: events_tx,
+            events: Arc::clone(&events),
             last_text: text,
+            unreadable: None,
             broken: false,
         };
         let watch = FileWatch::start(
@@ -117,7 +134,7 @@ impl LiveSkillParams {
         .map_err(|e| ParamsError::Io(path.display().to_string(), std::io::Error::other(e)))?;
         Ok(Self {
             shared,
-            events: Mutex::new(events),
+            events,
             path,
             _watch: watch,
         })
@@ -137,8 +154,12 @@ impl LiveSkillParams {
 
     /// Waits up to `timeout` for the next reload event.
     pub fn next_event(&self, timeout: Duration) -> Option<ParamsEvent> {
-        let events = self.events.lock().unwrap_or_else(|p| p.into_inner());
-        events.recv_timeout(timeout).ok()
+        self.events.next(timeout)
+    }
+
+    /// The queue of reload events itself (bounded; how many were sent and dropped).
+    pub fn events(&self) -> &Events<ParamsEvent> {
+        &self.events
     }
 }
 
@@ -146,18 +167,38 @@ struct Reloader {
     path: PathBuf,
     model: RobotModel,
     shared: Arc<Shared>,
-    events: mpsc::Sender<ParamsEvent>,
+    events: Arc<Events<ParamsEvent>>,
     last_text: String,
+    /// Why the file could not be read at the last attempt: said once, not on every event.
+    unreadable: Option<String>,
     broken: bool,
 }
 
 impl Reloader {
     fn reload(&mut self) {
-        let text = match std::fs::read_to_string(&self.path) {
-            Ok(text) => text,
-            // Gone for a moment (an editor's rename) or unreadable: the next event retries.
+        let text = match read_text(&self.path) {
+            Ok(text) => {
+                self.unreadable = None;
+                text
+            }
+            // Gone for a moment (an editor's rename): the next event brings the new file.
+            Err(ReadError::Missing) => {
+                log::debug!("skill parameters {}: gone for now", self.path.display());
+                return;
+            }
             Err(e) => {
-                log::debug!("skill parameters {}: {e}", self.path.display());
+                let message = format!(
+                    "skill parameters {}; keeping the running version",
+                    e.describe(&self.path)
+                );
+                if self.unreadable.as_ref() != Some(&message) {
+                    log::warn!("{message}");
+                    self.unreadable = Some(message.clone());
+                    self.broken = true;
+                    // Reading it again once it is fixed must count as a change.
+                    self.last_text.clear();
+                    self.events.push(ParamsEvent::Rejected { message });
+                }
                 return;
             }
         };
@@ -179,7 +220,7 @@ impl Reloader {
                     self.path.display(),
                     if recovered { "fixed" } else { "reloaded" }
                 );
-                let _ = self.events.send(ParamsEvent::Reloaded {
+                self.events.push(ParamsEvent::Reloaded {
                     generation,
                     recovered,
                 });
@@ -188,7 +229,7 @@ impl Reloader {
                 self.broken = true;
                 let message = e.to_string();
                 log::error!("skill parameters rejected, keeping the running version:\n{message}");
-                let _ = self.events.send(ParamsEvent::Rejected { message });
+                self.events.push(ParamsEvent::Rejected { message });
             }
         }
     }
@@ -197,6 +238,7 @@ impl Reloader {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::Mutex;
 
     const WAIT: Duration = Duration::from_secs(5);
 
@@ -263,5 +305,103 @@ mod tests {
             })
         );
         assert_eq!(live.current().walk.step_period_s, period);
+    }
+
+    /// Warnings logged by this test binary, to count what an operator would see.
+    struct Warnings(Mutex<Vec<String>>);
+
+    impl log::Log for Warnings {
+        fn enabled(&self, metadata: &log::Metadata) -> bool {
+            metadata.level() <= log::Level::Warn
+        }
+        fn log(&self, record: &log::Record) {
+            if record.level() == log::Level::Warn {
+                let mut seen = self.0.lock().unwrap();
+                seen.push(record.args().to_string());
+            }
+        }
+        fn flush(&self) {}
+    }
+
+    static WARNINGS: Warnings = Warnings(Mutex::new(Vec::new()));
+
+    fn warnings_about(file: &Path) -> usize {
+        let _ = log::set_logger(&WARNINGS);
+        log::set_max_level(log::LevelFilter::Warn);
+        let name = file.display().to_string();
+        WARNINGS
+            .0
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|w| w.contains(&name))
+            .count()
+    }
+
+    fn wait_for_events(live: &LiveSkillParams, count: u64) {
+        let start = std::time::Instant::now();
+        while live.events().pushed() < count {
+            assert!(start.elapsed() < WAIT, "no reload event {count}");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    #[test]
+    fn an_unreadable_file_is_warned_about_once_and_a_bom_is_accepted() {
+        let (_dir, path, live, text) = setup();
+        assert_eq!(warnings_about(&path), 0);
+        let binary: Vec<u8> = (0..=255u8).cycle().take(4096).collect();
+        std::fs::write(&path, &binary).unwrap();
+        wait_for_events(&live, 1);
+        match live.next_event(Duration::ZERO) {
+            Some(ParamsEvent::Rejected { message }) => {
+                assert!(message.contains("not UTF-8"), "{message}")
+            }
+            other => panic!("expected a rejection, got {other:?}"),
+        }
+        assert_eq!(warnings_about(&path), 1);
+        // Saved again unchanged: nothing new to say.
+        for _ in 0..3 {
+            std::fs::write(&path, &binary).unwrap();
+            std::thread::sleep(libero_watch::DEFAULT_DEBOUNCE * 2);
+        }
+        assert_eq!(live.events().pushed(), 1);
+        assert_eq!(warnings_about(&path), 1);
+
+        // 50 MB (sparse): refused unread, with a short message naming the file and the limit.
+        let start = std::time::Instant::now();
+        std::fs::File::create(&path)
+            .unwrap()
+            .set_len(50 << 20)
+            .unwrap();
+        wait_for_events(&live, 2);
+        assert!(
+            start.elapsed() < Duration::from_secs(1),
+            "{:?}",
+            start.elapsed()
+        );
+        match live.next_event(Duration::ZERO) {
+            Some(ParamsEvent::Rejected { message }) => {
+                assert!(message.len() < 300, "{message}");
+                assert!(
+                    message.contains("t1.ron") && message.contains("1048576"),
+                    "{message}"
+                );
+            }
+            other => panic!("expected a rejection, got {other:?}"),
+        }
+        assert_eq!(warnings_about(&path), 2);
+        assert_eq!(live.generation(), 1, "the running version stays");
+
+        // Back to text, with a byte-order mark an editor left in front.
+        std::fs::write(&path, format!("\u{feff}{text}")).unwrap();
+        assert_eq!(
+            live.next_event(WAIT),
+            Some(ParamsEvent::Reloaded {
+                generation: 2,
+                recovered: true
+            })
+        );
+        assert!(live.events().len() <= libero_watch::DEFAULT_EVENT_CAPACITY);
     }
 }

@@ -2,6 +2,7 @@
 
 use crate::syntax::Span;
 use serde::Serialize;
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -23,7 +24,9 @@ pub struct SourceFile {
 }
 
 impl SourceFile {
+    /// A leading byte-order mark is dropped: editors hide it, so positions count without it.
     pub fn new(path: PathBuf, text: String) -> Self {
+        let text = crate::files::strip_bom_owned(text);
         let line_starts = std::iter::once(0)
             .chain(text.match_indices('\n').map(|(i, _)| i + 1))
             .collect();
@@ -77,11 +80,17 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
+    /// The message is kept to a bounded length (see [`bounded`]): it may quote the input.
     pub fn error(code: &'static str, message: impl Into<String>) -> Self {
+        let message = message.into();
+        let message = match bounded(&message) {
+            Cow::Borrowed(_) => message,
+            Cow::Owned(shortened) => shortened,
+        };
         Self {
             severity: Severity::Error,
             code,
-            message: message.into(),
+            message,
             location: None,
             hint: None,
         }
@@ -123,13 +132,13 @@ pub struct Report {
 struct JsonDiagnostic<'a> {
     severity: Severity,
     code: &'a str,
-    message: &'a str,
+    message: Cow<'a, str>,
     file: Option<String>,
     line: Option<usize>,
     column: Option<usize>,
     end_line: Option<usize>,
     end_column: Option<usize>,
-    hint: Option<&'a str>,
+    hint: Option<Cow<'a, str>>,
 }
 
 impl Report {
@@ -223,13 +232,13 @@ impl Report {
                 JsonDiagnostic {
                     severity: d.severity,
                     code: d.code,
-                    message: &d.message,
+                    message: bounded(&d.message),
                     file: position.as_ref().map(|p| p.0.clone()),
                     line: position.as_ref().map(|p| p.1),
                     column: position.as_ref().map(|p| p.2),
                     end_line: position.as_ref().map(|p| p.3),
                     end_column: position.as_ref().map(|p| p.4),
-                    hint: d.hint.as_deref(),
+                    hint: d.hint.as_deref().map(bounded),
                 }
             })
             .collect();
@@ -253,7 +262,9 @@ fn render_one(out: &mut String, diagnostic: &Diagnostic, base: &Path) {
         Severity::Error => "error",
         Severity::Warning => "warning",
     };
-    let _ = writeln!(out, "{label}[{}]: {}", diagnostic.code, diagnostic.message);
+    let message = bounded(&diagnostic.message);
+    let _ = writeln!(out, "{label}[{}]: {message}", diagnostic.code);
+    let hint = diagnostic.hint.as_deref().map(bounded);
     if let Some(location) = &diagnostic.location {
         let file = &location.file;
         let (line, column) = file.line_col(location.span.start);
@@ -263,29 +274,123 @@ fn render_one(out: &mut String, diagnostic: &Diagnostic, base: &Path) {
         let _ = writeln!(out, "{pad}--> {}:{line}:{column}", shown.display());
         let _ = writeln!(out, "{pad} |");
         let text = file.line_text(line);
-        let _ = writeln!(out, "{line} | {text}");
         let (end_line, end_column) = file.line_col(location.span.end);
         let width = if end_line == line {
             end_column.saturating_sub(column).max(1)
         } else {
             text.chars().count().saturating_sub(column - 1).max(1)
         };
+        let excerpt = Excerpt::around(text, column - 1, width);
+        let _ = writeln!(out, "{line} | {}", excerpt.text);
         let _ = writeln!(
             out,
             "{pad} | {}{}",
-            " ".repeat(column - 1),
-            "^".repeat(width)
+            " ".repeat(excerpt.caret_at),
+            "^".repeat(excerpt.caret_width)
         );
-        if let Some(hint) = &diagnostic.hint {
+        if let Some(hint) = &hint {
             let _ = writeln!(out, "{pad} = hint: {hint}");
         }
-    } else if let Some(hint) = &diagnostic.hint {
+    } else if let Some(hint) = &hint {
         let _ = writeln!(out, "  = hint: {hint}");
     }
 }
 
+/// The most characters of a source line shown under a diagnostic; longer lines are cut
+/// around the column (a minified or generated file can hold the whole file on one line).
+/// Hand-written lines stay whole: the shipped formations' sample lines reach 180.
+pub const EXCERPT_CHARS: usize = 200;
+/// Characters kept before the column when a long line is cut.
+const EXCERPT_LEAD: usize = 60;
+/// The longest `quoted` run kept whole in a message (identifiers come from the input).
+pub const MAX_QUOTE_CHARS: usize = 48;
+/// The longest message or hint kept whole.
+pub const MAX_MESSAGE_CHARS: usize = 400;
+const ELLIPSIS: char = '…';
+
+/// A window of one line and where the caret goes in it (in characters).
+struct Excerpt<'a> {
+    text: Cow<'a, str>,
+    caret_at: usize,
+    caret_width: usize,
+}
+
+impl<'a> Excerpt<'a> {
+    /// The part of `line` around the 0-based character `column`, the caret `width` wide.
+    fn around(line: &'a str, column: usize, width: usize) -> Self {
+        // Byte length bounds the character count: short lines are shown whole without counting.
+        let length = if line.len() <= EXCERPT_CHARS {
+            line.chars().count()
+        } else {
+            line.chars().take(column + EXCERPT_CHARS + 1).count()
+        };
+        if length <= EXCERPT_CHARS {
+            return Self {
+                text: Cow::Borrowed(line),
+                caret_at: column,
+                caret_width: width,
+            };
+        }
+        let start = column
+            .saturating_sub(EXCERPT_LEAD)
+            .min(length - EXCERPT_CHARS);
+        let end = start + EXCERPT_CHARS;
+        let mut text = String::new();
+        if start > 0 {
+            text.push(ELLIPSIS);
+        }
+        text.extend(line.chars().skip(start).take(EXCERPT_CHARS));
+        if end < length {
+            text.push(ELLIPSIS);
+        }
+        let caret_at = column - start + usize::from(start > 0);
+        Self {
+            text: Cow::Owned(text),
+            caret_at,
+            caret_width: width.min(end.saturating_sub(column)).max(1),
+        }
+    }
+}
+
+/// `text` with every `quoted` run longer than [`MAX_QUOTE_CHARS`] shortened with an ellipsis,
+/// and the whole cut at [`MAX_MESSAGE_CHARS`]: messages quote names from the input, and a
+/// 100,000-character identifier must not become a 100,000-character message.
+pub fn bounded(text: &str) -> Cow<'_, str> {
+    let long_quote =
+        text.split('`').skip(1).step_by(2).any(|quoted| {
+            quoted.len() > MAX_QUOTE_CHARS && quoted.chars().count() > MAX_QUOTE_CHARS
+        });
+    if !long_quote && text.len() <= MAX_MESSAGE_CHARS {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::new();
+    for (i, part) in text.split('`').enumerate() {
+        if i > 0 {
+            out.push('`');
+        }
+        if i % 2 == 1 && part.chars().count() > MAX_QUOTE_CHARS {
+            out.extend(part.chars().take(MAX_QUOTE_CHARS));
+            out.push(ELLIPSIS);
+        } else {
+            out.extend(part.chars().take(MAX_MESSAGE_CHARS + 1));
+        }
+        if out.len() > MAX_MESSAGE_CHARS * 4 {
+            break;
+        }
+    }
+    if out.chars().count() > MAX_MESSAGE_CHARS {
+        out = out.chars().take(MAX_MESSAGE_CHARS).collect();
+        out.push(ELLIPSIS);
+    }
+    Cow::Owned(out)
+}
+
 /// "did you mean `X`?" for the closest known name, if one is close enough to be a typo.
 pub fn did_you_mean<'a>(unknown: &str, known: impl IntoIterator<Item = &'a str>) -> Option<String> {
+    // Far longer than any name is no typo, and comparing it would cost time in its length.
+    if unknown.len() > MAX_QUOTE_CHARS * 2 {
+        return None;
+    }
     let lower = unknown.to_lowercase();
     known
         .into_iter()
@@ -330,6 +435,57 @@ mod tests {
             Some("did you mean `Sequence`?")
         );
         assert_eq!(did_you_mean("Kick", ["Sequence", "Fallback"]), None);
+    }
+
+    /// The excerpt line and the caret line of a one-diagnostic rendering, as characters.
+    fn excerpt_and_caret(rendered: &str) -> (Vec<char>, Vec<char>) {
+        let lines: Vec<&str> = rendered.lines().collect();
+        let (_, text) = lines[3].split_once(" | ").unwrap();
+        let (_, caret) = lines[4].split_once(" | ").unwrap();
+        (text.chars().collect(), caret.chars().collect())
+    }
+
+    #[test]
+    fn a_long_line_is_cut_around_the_column_with_the_caret_still_under_it() {
+        for (before, after) in [(100_000, 100_000), (3, 100_000), (100_000, 3), (150, 60)] {
+            let text = format!("{}ÜX{}\n", "é".repeat(before), "b".repeat(after));
+            let file = Arc::new(SourceFile::new(PathBuf::from("long.ron"), text));
+            let start = file.text.find('X').unwrap();
+            let mut report = Report::default();
+            report.push(Diagnostic::error("x", "here").at(&file, Span::new(start, start + 3)));
+            let rendered = report.render_text();
+            assert!(rendered.len() < 1024, "{} bytes", rendered.len());
+            let (excerpt, caret) = excerpt_and_caret(&rendered);
+            assert!(excerpt.len() <= EXCERPT_CHARS + 2, "{}", excerpt.len());
+            let at = caret.iter().position(|&c| c == '^').unwrap();
+            assert_eq!(excerpt[at], 'X', "{rendered}");
+            assert_eq!(excerpt[at - 1], 'Ü', "{rendered}");
+            assert_eq!(caret.iter().filter(|&&c| c == '^').count(), 3);
+            assert_eq!(excerpt.first() == Some(&'…'), before > EXCERPT_LEAD);
+            assert_eq!(
+                excerpt.last() == Some(&'…'),
+                before + after > EXCERPT_CHARS && after > 100
+            );
+        }
+    }
+
+    #[test]
+    fn long_quoted_names_and_long_messages_are_shortened() {
+        let name = "N".repeat(100_000);
+        let d = Diagnostic::error(
+            "unknown-node",
+            format!("unknown node `{name}`, see `{name}`"),
+        );
+        assert!(d.message.starts_with(&format!(
+            "unknown node `{}…`, see `N",
+            &name[..MAX_QUOTE_CHARS]
+        )));
+        assert!(d.message.chars().count() <= MAX_MESSAGE_CHARS + 1);
+        let plain = "x".repeat(10_000);
+        assert_eq!(bounded(&plain).chars().count(), MAX_MESSAGE_CHARS + 1);
+        let short = "expected `,` or `)`, found `x`";
+        assert!(matches!(bounded(short), Cow::Borrowed(s) if s == short));
+        assert_eq!(did_you_mean(&name, ["N"]), None);
     }
 
     #[test]

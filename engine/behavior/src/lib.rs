@@ -12,6 +12,7 @@ mod compile;
 mod data_files;
 pub mod decode;
 pub mod diagnostics;
+pub mod files;
 mod host;
 mod library;
 mod live;

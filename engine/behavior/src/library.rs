@@ -6,6 +6,7 @@ use crate::compile::{compile_tree, BlackboardLayout, CompiledTree};
 use crate::data_files::{DataFiles, TreeIndex};
 use crate::decode::Decoder;
 use crate::diagnostics::{did_you_mean, Diagnostic, Report, SourceFile};
+use crate::files::{read_text, ron_files, ReadError};
 use crate::syntax;
 use crate::tree::parse_behavior_file;
 use crate::vocabulary::Vocabulary;
@@ -13,7 +14,7 @@ use std::any::Any;
 use std::collections::hash_map::DefaultHasher;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 /// All trees and strategy of a directory set, validated and compiled; shared by every agent.
@@ -101,73 +102,33 @@ pub fn validate_paths(
     }
 }
 
-/// `.ron` files under the given paths, sorted so results do not depend on directory order.
-pub(crate) fn ron_files(paths: &[PathBuf], report: &mut Report) -> Vec<PathBuf> {
-    fn walk(dir: &Path, out: &mut Vec<PathBuf>, report: &mut Report) {
-        match std::fs::read_dir(dir) {
-            Ok(entries) => {
-                for entry in entries.flatten() {
-                    let path = entry.path();
-                    if path.is_dir() {
-                        walk(&path, out, report);
-                    } else if path.extension().is_some_and(|e| e == "ron") {
-                        out.push(path);
-                    }
-                }
-            }
-            Err(error) => report.push(Diagnostic::error(
-                "io",
-                format!("cannot read directory {}: {error}", dir.display()),
-            )),
-        }
-    }
-    let mut files = Vec::new();
-    for path in paths {
-        if path.is_dir() {
-            walk(path, &mut files, report);
-        } else if path.exists() {
-            files.push(path.clone());
-        } else {
-            report.push(Diagnostic::error(
-                "io",
-                format!("{} does not exist", path.display()),
-            ));
-        }
-    }
-    files.sort();
-    files.dedup();
-    files
-}
-
+/// Every `.ron` file under `paths`, read with bounded cost (see [`crate::files`]). Files that
+/// cannot be read are errors in the report; one removed since listing is simply gone.
 pub(crate) fn read_sources(paths: &[PathBuf]) -> (Vec<Arc<SourceFile>>, Report) {
     let mut report = Report::default();
     let mut sources = Vec::new();
     for path in ron_files(paths, &mut report) {
-        match std::fs::read(&path) {
-            Ok(bytes) => match String::from_utf8(bytes) {
-                Ok(text) => sources.push(Arc::new(SourceFile::new(path, text))),
-                Err(_) => report.push(Diagnostic::error(
-                    "io",
-                    format!("{} is not UTF-8 text", path.display()),
-                )),
-            },
-            // A file removed between listing and reading is simply gone (an editor's rename).
-            Err(error) if error.kind() == std::io::ErrorKind::NotFound => {}
-            Err(error) => report.push(Diagnostic::error(
-                "io",
-                format!("cannot read {}: {error}", path.display()),
-            )),
+        match read_text(&path) {
+            Ok(text) => sources.push(Arc::new(SourceFile::new(path, text))),
+            // An editor's save by rename: the next event brings the new file.
+            Err(ReadError::Missing) => {}
+            Err(error) => report.push(Diagnostic::error("io", error.describe(&path))),
         }
     }
     (sources, report)
 }
 
-/// Identifies a set of file contents, to skip reloading when nothing really changed.
-pub(crate) fn fingerprint(sources: &[Arc<SourceFile>]) -> u64 {
+/// Identifies a set of file contents and of problems reading files, to skip reloading (and
+/// reporting again) when nothing really changed: a file refused unread is in no source, so
+/// without its problem a new unreadable file would look like no change at all.
+pub(crate) fn fingerprint(sources: &[Arc<SourceFile>], read_problems: &Report) -> u64 {
     let mut hasher = DefaultHasher::new();
     for source in sources {
         source.path.hash(&mut hasher);
         source.text.hash(&mut hasher);
+    }
+    for problem in &read_problems.diagnostics {
+        problem.message.hash(&mut hasher);
     }
     hasher.finish()
 }

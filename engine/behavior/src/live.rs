@@ -7,11 +7,10 @@ use crate::diagnostics::Report;
 use crate::library::{build, fingerprint, read_sources, Library};
 use crate::vocabulary::Vocabulary;
 use arc_swap::ArcSwap;
-use libero_watch::FileWatch;
+use libero_watch::{Events, FileWatch};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Duration;
 
 #[derive(Debug, Clone)]
@@ -49,7 +48,8 @@ struct Shared {
 /// The newest valid library of a directory set, kept up to date by a watcher thread.
 pub struct LiveLibrary {
     shared: Arc<Shared>,
-    events: Mutex<Receiver<ReloadEvent>>,
+    /// The newest few events (see [`Events`]): nothing reads them in a running team.
+    events: Arc<Events<ReloadEvent>>,
     /// Stops the reload thread when the library is dropped.
     _watch: FileWatch,
 }
@@ -64,7 +64,7 @@ impl LiveLibrary {
         options: ReloadOptions,
     ) -> Result<LiveLibrary, Report> {
         let (sources, mut report) = read_sources(&paths);
-        let initial_fingerprint = fingerprint(&sources);
+        let initial_fingerprint = fingerprint(&sources, &report);
         let library = build(&sources, &vocabulary, data_files.as_ref(), &mut report);
         report.sort();
         let mut library = match library {
@@ -79,13 +79,13 @@ impl LiveLibrary {
             current: ArcSwap::from_pointee(library),
             generation: AtomicU64::new(1),
         });
-        let (events_tx, events) = mpsc::channel();
+        let events = Arc::new(Events::default());
         let mut reloader = Reloader {
             paths: paths.clone(),
             vocabulary,
             data_files,
             shared: shared.clone(),
-            events: events_tx,
+            events: Arc::clone(&events),
             last_fingerprint: initial_fingerprint,
             broken: false,
         };
@@ -102,7 +102,7 @@ impl LiveLibrary {
         })?;
         Ok(LiveLibrary {
             shared,
-            events: Mutex::new(events),
+            events,
             _watch: watch,
         })
     }
@@ -117,22 +117,20 @@ impl LiveLibrary {
         self.shared.generation.load(Ordering::Acquire)
     }
 
-    /// Reload events not yet taken.
+    /// Reload events not yet taken (the newest [`libero_watch::DEFAULT_EVENT_CAPACITY`]).
     pub fn drain_events(&self) -> Vec<ReloadEvent> {
-        let events = self
-            .events
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        events.try_iter().collect()
+        self.events.drain()
     }
 
     /// Waits up to `timeout` for the next reload event.
     pub fn next_event(&self, timeout: Duration) -> Option<ReloadEvent> {
-        let events = self
-            .events
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        events.recv_timeout(timeout).ok()
+        self.events.next(timeout)
+    }
+
+    /// The queue of reload events itself: how many wait (bounded however long the library
+    /// runs), how many were sent and dropped.
+    pub fn events(&self) -> &Events<ReloadEvent> {
+        &self.events
     }
 }
 
@@ -141,7 +139,7 @@ struct Reloader {
     vocabulary: Arc<Vocabulary>,
     data_files: Arc<dyn DataFiles>,
     shared: Arc<Shared>,
-    events: mpsc::Sender<ReloadEvent>,
+    events: Arc<Events<ReloadEvent>>,
     last_fingerprint: u64,
     broken: bool,
 }
@@ -149,7 +147,7 @@ struct Reloader {
 impl Reloader {
     fn reload(&mut self) {
         let (sources, mut report) = read_sources(&self.paths);
-        let fingerprint = fingerprint(&sources);
+        let fingerprint = fingerprint(&sources, &report);
         if fingerprint == self.last_fingerprint {
             return;
         }
@@ -173,7 +171,7 @@ impl Reloader {
                 } else {
                     log::info!("behavior files reloaded; generation {generation} is live");
                 }
-                let _ = self.events.send(ReloadEvent::Reloaded {
+                self.events.push(ReloadEvent::Reloaded {
                     generation,
                     recovered,
                     warnings: report,
@@ -185,7 +183,7 @@ impl Reloader {
                     "behavior files rejected, keeping the running version:\n{}",
                     report.render_text()
                 );
-                let _ = self.events.send(ReloadEvent::Rejected { report });
+                self.events.push(ReloadEvent::Rejected { report });
             }
         }
     }

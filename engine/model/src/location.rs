@@ -39,15 +39,27 @@ impl fmt::Display for SourceLocation {
     }
 }
 
-/// Deserialize RON text; a syntax or type error comes back located in `file`.
+/// The longest error message kept whole: the parser's messages quote names from the input.
+const MAX_MESSAGE_CHARS: usize = 200;
+
+/// Deserialize RON text; a syntax or type error comes back located in `file`. A leading
+/// byte-order mark (written by some editors, invisible in them) is not part of the value.
 pub fn parse_ron<T: serde::de::DeserializeOwned>(file: &str, text: &str) -> Result<T, Located> {
-    ron::from_str(text).map_err(|e| Located {
-        file: file.to_string(),
-        at: SourceLocation {
-            line: e.position.line,
-            column: e.position.col,
-        },
-        message: e.code.to_string(),
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    ron::from_str(text).map_err(|e| {
+        let mut message = e.code.to_string();
+        if message.chars().count() > MAX_MESSAGE_CHARS {
+            message = message.chars().take(MAX_MESSAGE_CHARS).collect();
+            message.push('…');
+        }
+        Located {
+            file: file.to_string(),
+            at: SourceLocation {
+                line: e.position.line,
+                column: e.position.col,
+            },
+            message,
+        }
     })
 }
 
@@ -68,6 +80,20 @@ impl fmt::Display for Located {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_byte_order_mark_is_skipped_and_long_names_are_cut() {
+        let value: (u32, u32) = parse_ron("x", "\u{feff}(1, 2)").unwrap();
+        assert_eq!(value, (1, 2));
+        #[derive(Debug, serde::Deserialize)]
+        enum Side {
+            Left,
+        }
+        let error = parse_ron::<Side>("x", &"K".repeat(100_000)).unwrap_err();
+        assert!(error.message.contains("KKK"), "{error}");
+        assert!(error.to_string().len() < 300, "{error}");
+        assert!(matches!(parse_ron::<Side>("x", "Left"), Ok(Side::Left)));
+    }
 
     #[test]
     fn offsets_map_to_lines_and_columns() {

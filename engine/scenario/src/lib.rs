@@ -54,7 +54,8 @@ pub fn default_scenarios_dir() -> PathBuf {
 
 /// Whether the file at `path` is a scenario file (its top value is `Scenario(...)`).
 pub fn is_scenario_file(path: &Path) -> bool {
-    std::fs::read_to_string(path).is_ok_and(|t| is_scenario_text(&t))
+    // Bounded: a huge or binary file is no scenario, and the library then reports it.
+    libero_behavior::files::read_text(path).is_ok_and(|t| is_scenario_text(&t))
 }
 
 /// Run `runs` situations drawn from `scenario` with `seed` on one server; `each` sees every

@@ -4,6 +4,7 @@ use crate::conditions::success;
 use crate::decode::{head, items, Decoder};
 use crate::spec::{shortfall, BallSpec, Launch, Num, Place, Play, Point, Rng, Robot, Scenario};
 use libero_behavior::diagnostics::{did_you_mean, Diagnostic, Report, SourceFile};
+use libero_behavior::files::{read_text, strip_bom};
 use libero_behavior::syntax::{self, Node, NodeKind, Span};
 use libero_model::FieldGeometry;
 use libero_world::WorldParams;
@@ -30,7 +31,7 @@ const LAUNCH_CHECKS: usize = 256;
 /// Whether `text` is a scenario file: its top value is `Scenario(...)` (looked at after
 /// comments, so a scenario with a syntax error further down still counts).
 pub fn is_scenario_text(text: &str) -> bool {
-    let mut rest = text;
+    let mut rest = strip_bom(text);
     loop {
         rest = rest.trim_start();
         if let Some(after) = rest.strip_prefix("//") {
@@ -50,22 +51,10 @@ pub fn is_scenario_text(text: &str) -> bool {
 /// Read and validate one scenario file. Errors (and warnings) go to the report; `None` when
 /// there were errors.
 pub fn load_file(path: &Path, report: &mut Report) -> Option<Scenario> {
-    let text = match std::fs::read(path) {
-        Ok(bytes) => match String::from_utf8(bytes) {
-            Ok(text) => text,
-            Err(_) => {
-                report.push(Diagnostic::error(
-                    "io",
-                    format!("{} is not UTF-8 text", path.display()),
-                ));
-                return None;
-            }
-        },
+    let text = match read_text(path) {
+        Ok(text) => text,
         Err(e) => {
-            report.push(Diagnostic::error(
-                "io",
-                format!("cannot read {}: {e}", path.display()),
-            ));
+            report.push(Diagnostic::error("io", e.describe(path)));
             return None;
         }
     };

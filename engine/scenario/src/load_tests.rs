@@ -247,6 +247,35 @@ fn not_utf8_and_hostile_input_do_not_panic() {
 }
 
 #[test]
+fn a_file_with_a_byte_order_mark_is_a_scenario_and_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bom.ron");
+    std::fs::write(&path, format!("\u{feff}{GOOD}")).unwrap();
+    assert!(crate::is_scenario_file(&path));
+    let mut report = Report::default();
+    let scenario = crate::load_file(&path, &mut report);
+    assert!(scenario.is_some(), "{}", report.render_text());
+    assert!(is_scenario_text(&format!("\u{feff}{GOOD}")));
+}
+
+#[test]
+fn a_huge_file_is_refused_unread() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("huge.ron");
+    std::fs::File::create(&path)
+        .unwrap()
+        .set_len(50 << 20)
+        .unwrap();
+    assert!(!crate::is_scenario_file(&path));
+    let start = std::time::Instant::now();
+    let mut report = Report::default();
+    assert!(crate::load_file(&path, &mut report).is_none());
+    assert!(start.elapsed() < std::time::Duration::from_secs(1));
+    let text = report.render_text();
+    assert!(text.len() < 2048 && text.contains("huge.ron"), "{text}");
+}
+
+#[test]
 #[ignore]
 fn print_rest_distances() {
     let ball = WorldParams::builtin().ball;

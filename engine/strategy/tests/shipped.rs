@@ -232,3 +232,41 @@ fn goalkeeper_meets_a_shot_where_it_crosses_its_line() {
         "{goal:?}"
     );
 }
+
+/// Editors that write a byte-order mark in front of every file change nothing.
+#[test]
+fn the_shipped_files_load_with_a_byte_order_mark_in_front_of_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut paths = Vec::new();
+    for folder in shipped() {
+        let copy = dir.path().join(folder.file_name().unwrap());
+        std::fs::create_dir(&copy).unwrap();
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            std::fs::write(
+                copy.join(path.file_name().unwrap()),
+                format!("\u{feff}{text}"),
+            )
+            .unwrap();
+        }
+        paths.push(copy);
+    }
+    let with_bom = libero_strategy::load(&paths).unwrap_or_else(|r| panic!("{}", r.render_text()));
+    let plain = library();
+    assert_eq!(library_files(&with_bom), library_files(&plain));
+    assert_eq!(
+        strategy_of(&with_bom).formations.len(),
+        strategy_of(&plain).formations.len()
+    );
+}
+
+fn library_files(library: &libero_behavior::Library) -> Vec<String> {
+    let mut names: Vec<String> = library
+        .files()
+        .iter()
+        .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}

@@ -5,6 +5,10 @@
 //! relevant event. The reload runs on the watcher's own thread, never on an agent thread.
 //! Behavior trees, strategy files and skill parameters all reload through this one mechanism.
 
+mod events;
+
+pub use events::{Events, DEFAULT_EVENT_CAPACITY};
+
 use notify::{EventKind, RecursiveMode, Watcher};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
@@ -43,9 +47,15 @@ impl FileWatch {
         mut reload: impl FnMut() + Send + 'static,
     ) -> Result<FileWatch, WatchError> {
         let (events_tx, events) = mpsc::channel();
-        let mut watcher = notify::recommended_watcher(move |event| {
-            let _ = events_tx.send(event);
-        })
+        // Links are not followed: one leading up the tree (`up -> ..`) would watch everything
+        // above the folder; links inside it lead to folders watched under their own path.
+        let config = notify::Config::default().with_follow_symlinks(false);
+        let mut watcher = notify::RecommendedWatcher::new(
+            move |event| {
+                let _ = events_tx.send(event);
+            },
+            config,
+        )
         .map_err(|e| WatchError(format!("cannot watch files: {e}")))?;
         for path in paths {
             // A single file is watched through its folder: editors that save by renaming a

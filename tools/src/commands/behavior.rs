@@ -3,10 +3,11 @@
 use super::CliResult;
 use clap::{Args, ValueEnum};
 use libero_agent::build::default_data_dirs;
+use libero_behavior::files::ron_files;
 use libero_behavior::Report;
 use libero_scenario::{default_scenarios_dir, is_scenario_file};
 use libero_strategy::{validate_paths, vocabulary};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -44,14 +45,7 @@ pub fn validate(args: ValidateArgs) -> CliResult {
     } else {
         args.paths
     };
-    let (data, scenarios) = split_scenarios(&paths);
-    let mut report = if data.is_empty() {
-        Report::default()
-    } else {
-        validate_paths(&data)
-    };
-    report.extend(libero_scenario::validate_files(&scenarios));
-    report.sort();
+    let report = check(&paths);
     match args.format {
         Format::Text => eprint!("{}", report.render_text()),
         Format::Json => println!("{}", report.render_json()),
@@ -63,29 +57,28 @@ pub fn validate(args: ValidateArgs) -> CliResult {
     })
 }
 
+/// Every diagnostic of the tree, strategy and scenario files under `paths`, sorted.
+fn check(paths: &[PathBuf]) -> Report {
+    let (data, scenarios, mut report) = split_scenarios(paths);
+    if !data.is_empty() {
+        report.extend(validate_paths(&data));
+    }
+    report.extend(libero_scenario::validate_files(&scenarios));
+    report.sort();
+    report
+}
+
 /// Scenario files apart from the tree and strategy files they may sit beside. A folder without
 /// scenario files is passed on whole (the library reports on it as before); a folder with some
-/// is passed on as its other `.ron` files.
-fn split_scenarios(paths: &[PathBuf]) -> (Vec<PathBuf>, Vec<PathBuf>) {
-    fn ron_files(dir: &Path, out: &mut Vec<PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                ron_files(&path, out);
-            } else if path.extension().is_some_and(|e| e == "ron") {
-                out.push(path);
-            }
-        }
-    }
+/// is passed on as its other `.ron` files, and what its walk found (links skipped) is reported
+/// here, since the library then sees the files alone.
+fn split_scenarios(paths: &[PathBuf]) -> (Vec<PathBuf>, Vec<PathBuf>, Report) {
     let (mut data, mut scenarios) = (Vec::new(), Vec::new());
+    let mut report = Report::default();
     for path in paths {
         if path.is_dir() {
-            let mut files = Vec::new();
-            ron_files(path, &mut files);
-            files.sort();
+            let mut walk_report = Report::default();
+            let files = ron_files(std::slice::from_ref(path), &mut walk_report);
             let (s, other): (Vec<PathBuf>, Vec<PathBuf>) =
                 files.into_iter().partition(|f| is_scenario_file(f));
             if s.is_empty() {
@@ -93,6 +86,7 @@ fn split_scenarios(paths: &[PathBuf]) -> (Vec<PathBuf>, Vec<PathBuf>) {
             } else {
                 scenarios.extend(s);
                 data.extend(other);
+                report.extend(walk_report);
             }
         } else if path.is_file() && is_scenario_file(path) {
             scenarios.push(path.clone());
@@ -100,7 +94,7 @@ fn split_scenarios(paths: &[PathBuf]) -> (Vec<PathBuf>, Vec<PathBuf>) {
             data.push(path.clone());
         }
     }
-    (data, scenarios)
+    (data, scenarios, report)
 }
 
 /// Print the native nodes trees may use, from the agent's own declarations.
@@ -122,13 +116,55 @@ mod tests {
         let scenarios = default_scenarios_dir();
         let mut paths = default_data_dirs();
         paths.push(scenarios.clone());
-        let (data, found) = split_scenarios(&paths);
+        let (data, found, _) = split_scenarios(&paths);
         // The tree and strategy folders go to the library whole; the scenarios are checked apart.
         assert_eq!(data, default_data_dirs());
         assert!(found.len() >= 4 && found.iter().all(|f| f.starts_with(&scenarios)));
         let single = scenarios.join("keeper_shots.ron");
-        let (data, found) = split_scenarios(std::slice::from_ref(&single));
+        let (data, found, _) = split_scenarios(std::slice::from_ref(&single));
         assert!(data.is_empty());
         assert_eq!(found, vec![single]);
+    }
+
+    /// A copy of the shipped trees and strategy files, a scenario beside them (so the folder
+    /// is split file by file), and links that loop or lead out.
+    #[cfg(unix)]
+    #[test]
+    fn a_folder_of_link_loops_validates_at_once_and_defines_nothing_twice() {
+        use std::os::unix::fs::symlink;
+        let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().join("team");
+        for (from, to) in [
+            ("behaviors", "behaviors"),
+            ("formations", "formations"),
+            ("scenarios", "scenarios"),
+        ] {
+            std::fs::create_dir_all(root.join(to)).unwrap();
+            for entry in std::fs::read_dir(repo.join(from)).unwrap() {
+                let entry = entry.unwrap();
+                std::fs::copy(entry.path(), root.join(to).join(entry.file_name())).unwrap();
+            }
+        }
+        symlink("b", root.join("a")).unwrap();
+        symlink("a", root.join("b")).unwrap();
+        symlink(".", root.join("self")).unwrap();
+        symlink("..", root.join("up")).unwrap();
+        let start = std::time::Instant::now();
+        let report = check(std::slice::from_ref(&root));
+        let took = start.elapsed();
+        let text = report.render_text();
+        assert!(took < std::time::Duration::from_secs(1), "{took:?}");
+        assert!(!text.contains("defined twice"), "{text}");
+        assert_eq!(report.error_count(), 0, "{text}");
+        assert_eq!(
+            report
+                .diagnostics
+                .iter()
+                .filter(|d| d.code == "link")
+                .count(),
+            3,
+            "{text}"
+        );
     }
 }
