@@ -270,3 +270,32 @@ fn library_files(library: &libero_behavior::Library) -> Vec<String> {
     names.sort();
     names
 }
+
+#[test]
+fn after_a_goal_every_player_beams_back_to_the_kick_off_formation() {
+    let library = library();
+    let strategy = strategy_of(&library);
+    // We are the right team. Goal_Left: they scored, so we kick off next; Goal_Right: we
+    // scored, they kick off. Both the field players and the keeper beam.
+    for (mode, situation) in [
+        (PlayMode::Goal(Side::Left), Situation::KickOffOwn),
+        (PlayMode::Goal(Side::Right), Situation::KickOffTheirs),
+    ] {
+        for (unum, tree) in [(4, "FieldPlayer"), (1, "Goalkeeper")] {
+            let w = world(unum, Own::new(10.0, 17.5), Own::new(27.0, 0.0), mode);
+            let intent = tick(tree, &w, &mut PlayerMemory::default());
+            let expected = strategy
+                .position(situation, unum as u8, libero_behavior::Vec2::new(0.0, 0.0))
+                .unwrap();
+            let [x, y, _] = intent
+                .beam
+                .unwrap_or_else(|| panic!("{tree} in {mode:?}: no beam"));
+            assert!(
+                (x - expected.x).abs() < 1e-9 && (y - expected.y).abs() < 1e-9,
+                "{tree} in {mode:?}: beamed to ({x}, {y}), formation ({}, {})",
+                expected.x,
+                expected.y
+            );
+        }
+    }
+}
