@@ -45,6 +45,7 @@ impl AgentUnderTest {
         let flag = Arc::clone(&stop);
         let mut config = AgentConfig::new("127.0.0.1", port);
         config.silence_timeout = silence;
+        config.first_percept_timeout = silence;
         config.greeting_delay = Duration::ZERO;
         let thread = std::thread::spawn(move || run_agent(&config, &mut player, &flag).unwrap());
         Self {
@@ -187,4 +188,46 @@ fn an_unreachable_server_is_a_clear_error_when_attempts_are_bounded() {
         err.contains("libero server start"),
         "the error says what to do: {err}"
     );
+}
+
+/// A server that closes every connection before the first percept (it refuses the team): the
+/// agent retries with a doubling wait, each retry being a join that stalls the server's
+/// match, and stops with a clear error after the bounded number of refusals.
+#[test]
+fn a_refused_agent_backs_off_and_stops_with_a_clear_error() {
+    init_logging();
+    let (l, port) = listener();
+    let refusing = std::thread::spawn(move || {
+        let mut at = Vec::new();
+        for _ in 0..4 {
+            let s = accept_agent(&l);
+            at.push(std::time::Instant::now());
+            drop(s);
+        }
+        // No fifth attempt comes.
+        l.set_nonblocking(true).unwrap();
+        std::thread::sleep(Duration::from_millis(1500));
+        assert!(l.accept().is_err(), "a fifth attempt after four refusals");
+        at
+    });
+    let mut player = build::standing_player(&t1(), "Probe", 1).unwrap();
+    let mut config = AgentConfig::new("127.0.0.1", port);
+    config.greeting_delay = Duration::ZERO;
+    config.max_refusals = 4;
+    config.refusal_backoff = Duration::from_millis(100);
+    let err = run_agent(&config, &mut player, &AtomicBool::new(false))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("refused this agent 4 times"), "{err}");
+    assert!(
+        err.contains("team name"),
+        "the error says what to check: {err}"
+    );
+    let at = refusing.join().unwrap();
+    let gaps: Vec<f64> = at.windows(2).map(|w| (w[1] - w[0]).as_secs_f64()).collect();
+    // 0.1, 0.2, 0.4 s: each wait about twice the one before.
+    for pair in gaps.windows(2) {
+        assert!(pair[1] > 1.6 * pair[0], "the waits do not grow: {gaps:?}");
+    }
+    assert!(gaps[0] >= 0.09, "{gaps:?}");
 }

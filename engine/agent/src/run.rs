@@ -6,6 +6,7 @@ use crate::stats::AgentStats;
 use libero_protocol::{is_timeout, FrameError};
 use std::io::Write;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Where and how one agent connects.
@@ -13,24 +14,46 @@ use std::time::{Duration, Instant};
 pub struct AgentConfig {
     pub host: String,
     pub port: u16,
-    /// A server that sends nothing for this long is given up on and reconnected to.
+    /// A connection that has carried percepts and then stays silent this long is given up on
+    /// and reconnected to. Long: a stalled server keeps its sockets open, and riding the
+    /// stall out on the open connection keeps the player in the match (a server that died
+    /// closes them, which is noticed at once).
     pub silence_timeout: Duration,
+    /// After connecting, the first percept may take this long: rcssservermj admits agents
+    /// one at a time, 2-4 s each, so the last of seven joining together waits ~25 s.
+    pub first_percept_timeout: Duration,
     /// Stop after this many failed connection attempts in a row (`None`: keep trying).
     pub max_connect_failures: Option<u32>,
+    /// Stop after the server closed this many connections in a row before the first percept
+    /// (it refuses the team, the number or the robot). Each refused join stalls the match the
+    /// server runs, so the retries back off from `refusal_backoff` doubling up to 30 s.
+    pub max_refusals: u32,
+    pub refusal_backoff: Duration,
     /// Pause between connecting and the first message. rcsssmj 0.2.1 crashes when an agent
     /// is activated before the simulation's first step, which is what happens when agents
     /// retrying in a loop reach a server the moment it starts listening.
     pub greeting_delay: Duration,
+    /// Agents sharing a gate join one at a time (from connecting to the first percept), also
+    /// when they reconnect together after a stall: simultaneous joins stall the server.
+    pub join_gate: Option<Arc<JoinGate>>,
 }
+
+/// Lets the agents of a team join the server one at a time.
+#[derive(Debug, Default)]
+pub struct JoinGate(Mutex<()>);
 
 impl AgentConfig {
     pub fn new(host: &str, port: u16) -> Self {
         Self {
             host: host.to_string(),
             port,
-            silence_timeout: Duration::from_secs(10),
+            silence_timeout: Duration::from_secs(300),
+            first_percept_timeout: Duration::from_secs(60),
             max_connect_failures: None,
+            max_refusals: 3,
+            refusal_backoff: Duration::from_secs(1),
             greeting_delay: Duration::from_millis(150),
+            join_gate: None,
         }
     }
 }
@@ -45,7 +68,18 @@ pub enum AgentError {
         attempts: u32,
         last: std::io::Error,
     },
+    #[error("the server at {host}:{port} refused this agent {attempts} times in a row (it closed the connection before the first percept): team name, uniform number or robot not accepted? (rcssservermj takes two team names, unique numbers, 7 players a side with ssim rules)")]
+    Refused {
+        host: String,
+        port: u16,
+        attempts: u32,
+    },
 }
+
+/// Longest wait between refused joins.
+const REFUSAL_BACKOFF_MAX: Duration = Duration::from_secs(30);
+/// A silent server is reported once it has been quiet this long.
+const SILENCE_REPORTED_AFTER: Duration = Duration::from_secs(10);
 
 const BACKOFF_START: Duration = Duration::from_millis(50);
 const BACKOFF_MAX: Duration = Duration::from_millis(200);
@@ -61,11 +95,18 @@ pub fn run_agent(
     let unum = player.world.game.unum;
     let mut backoff = BACKOFF_START;
     let mut failures = 0u32;
+    let mut refusals = 0u32;
     let mut out = Vec::with_capacity(4096);
     while !shutdown.load(Ordering::Relaxed) {
+        // Held from connecting to the first percept (or the end of the attempt).
+        let gate = config
+            .join_gate
+            .as_ref()
+            .map(|g| g.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner()));
         let mut conn = match Connection::open(&config.host, config.port) {
             Ok(c) => c,
             Err(e) => {
+                drop(gate);
                 failures += 1;
                 if config
                     .max_connect_failures
@@ -106,8 +147,10 @@ pub fn run_agent(
                 return Ok(());
             }
         }
+        let mut gate = gate;
         let mut heard_at = Instant::now();
         let mut answered = 0u64;
+        let mut silence_reported = false;
         let reason = loop {
             if shutdown.load(Ordering::Relaxed) {
                 return Ok(());
@@ -116,28 +159,68 @@ pub fn run_agent(
             match reader.read_frame() {
                 Ok(frame) => {
                     heard_at = Instant::now();
+                    if silence_reported {
+                        log::info!("agent {unum}: the server speaks again");
+                        silence_reported = false;
+                    }
                     out.clear();
                     player.on_percept(frame, &mut out);
                     if let Err(e) = writer.write_all(&out) {
                         break format!("send failed: {e}");
                     }
                     answered += 1;
+                    // In: the next agent may join.
+                    gate = None;
                     backoff = BACKOFF_START;
+                    refusals = 0;
                 }
                 Err(e) if is_timeout(&e) => {
-                    if heard_at.elapsed() > config.silence_timeout {
-                        break format!("server silent for {:.0?}", config.silence_timeout);
+                    let silent = heard_at.elapsed();
+                    let limit = if answered == 0 {
+                        config.first_percept_timeout
+                    } else {
+                        config.silence_timeout
+                    };
+                    if silent > limit {
+                        break format!("server silent for {limit:.0?}");
+                    }
+                    if answered > 0 && !silence_reported && silent > SILENCE_REPORTED_AFTER {
+                        log::warn!(
+                            "agent {unum}: server silent for {SILENCE_REPORTED_AFTER:.0?}; keeping the connection open"
+                        );
+                        silence_reported = true;
                     }
                 }
                 Err(FrameError::Closed) if answered == 0 => {
-                    break "the server closed the connection before the first percept: team name, uniform number or robot refused? (rcssservermj takes two team names, unique numbers, 7 players a side with ssim rules)".to_string();
+                    gate = None;
+                    refusals += 1;
+                    if refusals >= config.max_refusals {
+                        return Err(AgentError::Refused {
+                            host: config.host.clone(),
+                            port: config.port,
+                            attempts: refusals,
+                        });
+                    }
+                    let wait = config
+                        .refusal_backoff
+                        .saturating_mul(1 << (refusals - 1).min(16))
+                        .min(REFUSAL_BACKOFF_MAX);
+                    log::warn!(
+                        "agent {unum}: the server closed the connection before the first percept ({refusals} of {} refusals); trying again in {wait:.0?}",
+                        config.max_refusals
+                    );
+                    sleep_unless_shutdown(wait, shutdown);
+                    break String::new();
                 }
                 Err(e) => break e.to_string(),
             }
         };
-        log::warn!("agent {unum}: connection lost ({reason}); reconnecting");
-        sleep_unless_shutdown(backoff, shutdown);
-        backoff = (backoff * 2).min(BACKOFF_MAX);
+        drop(gate);
+        if !reason.is_empty() {
+            log::warn!("agent {unum}: connection lost ({reason}); reconnecting");
+            sleep_unless_shutdown(backoff, shutdown);
+            backoff = (backoff * 2).min(BACKOFF_MAX);
+        }
     }
     Ok(())
 }

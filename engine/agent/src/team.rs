@@ -1,7 +1,7 @@
 //! Several agents in one process: one thread each, joining one at a time.
 
 use crate::player::Player;
-use crate::run::{run_agent, AgentConfig};
+use crate::run::{run_agent, AgentConfig, JoinGate};
 use crate::stats::AgentStats;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -17,8 +17,14 @@ pub struct Team {
 
 impl Team {
     /// Start one agent per player, each after the previous one received its first percept
-    /// (joins recompile the server's model; simultaneous joins stall servers).
+    /// (joins recompile the server's model; simultaneous joins stall servers). The agents
+    /// share a join gate, so after a stall that drops them all they rejoin one at a time too.
     pub fn start(config: &AgentConfig, players: Vec<Player>, shutdown: Arc<AtomicBool>) -> Team {
+        let mut config = config.clone();
+        if config.join_gate.is_none() {
+            config.join_gate = Some(Arc::new(JoinGate::default()));
+        }
+        let config = &config;
         let mut team = Team {
             stats: Vec::new(),
             threads: Vec::new(),

@@ -126,6 +126,11 @@ impl ServerProcess {
         }
     }
 
+    /// The server's process id while it runs (fault injection: stopping and continuing it).
+    pub fn pid(&self) -> Option<u32> {
+        self.child.as_ref().map(Child::id)
+    }
+
     pub fn log_path(&self) -> PathBuf {
         self.work_dir.join("server.log")
     }
