@@ -78,6 +78,17 @@ impl AgentHost<'_> {
                 .memory
                 .avoidance
                 .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
+            log::trace!(
+                "t {:.2} dribble: me {:?} to {:?} via {:?} obstacles {:?}",
+                world.time,
+                me,
+                behind,
+                waypoint,
+                obstacles
+                    .iter()
+                    .map(|o| (o.at.x, o.at.y))
+                    .collect::<Vec<_>>()
+            );
             self.walk_towards(waypoint, Some(ball), f64::INFINITY);
             self.look_at_ball();
             return Status::Running;
@@ -85,6 +96,13 @@ impl AgentHost<'_> {
         let heading = world
             .pose()
             .relative_angle(self.global_of(ball).bearing_to(self.global_of(target)));
+        log::trace!(
+            "t {:.2} dribble: me {:?} ball {:?} skill {:?}",
+            world.time,
+            me,
+            ball,
+            self.skills.dribble
+        );
         self.intent.body = BodyIntent::Dribble {
             ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
             direction_deg: heading.to_degrees(),

@@ -13,6 +13,7 @@ pub(super) const NODES: &[Native] = &[
     Native::action(look_around_ports, look_around),
     Native::action(walk_to_ports, walk_to),
     Native::action(kick_to_ports, kick_to),
+    Native::action(search_ball_ports, search_ball),
 ];
 
 fn beam_to_formation_ports() -> NodeSpec {
@@ -149,6 +150,44 @@ fn kick_to(host: &mut AgentHost, ports: &Ports) -> Status {
         ports.float("distance"),
         ports.float("lost_after"),
     )
+}
+
+fn search_ball_ports() -> NodeSpec {
+    NodeSpec::action(
+        "SearchBall",
+        "Turns on the spot, towards where the ball was last believed to be, with the head scanning, until the ball has been seen within `seen_within` seconds (then succeeds). For a ball lost out of the head's reach: behind the robot, after a fall.",
+    )
+    .param(
+        ParamSpec::new("turn", ValueType::Float)
+            .unit("deg/s")
+            .range(5.0, 90.0)
+            .default(Value::Float(40.0))
+            .doc("turning speed"),
+    )
+    .param(
+        ParamSpec::new("seen_within", ValueType::Float)
+            .unit("s")
+            .range(0.05, 10.0)
+            .default(Value::Float(0.5))
+            .doc("a ball seen this recently is found"),
+    )
+}
+
+fn search_ball(host: &mut AgentHost, ports: &Ports) -> Status {
+    let world = host.world;
+    if world.ball.age(world.time) <= ports.float("seen_within") {
+        return Status::Success;
+    }
+    // The shorter way round to where the ball was last believed to be.
+    let bearing = world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S);
+    let sign = if bearing[1] < 0.0 { -1.0 } else { 1.0 };
+    host.intent.body = BodyIntent::Walk {
+        forward_m_s: 0.0,
+        sideways_m_s: 0.0,
+        turn_deg_s: sign * ports.float("turn"),
+    };
+    host.look_for_ball();
+    Status::Running
 }
 
 impl AgentHost<'_> {
