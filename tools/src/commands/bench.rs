@@ -20,6 +20,10 @@ pub enum Measure {
     GetUp,
     /// 20 long and 20 short kicks from all round the ball (5 each with `--short`).
     Kick,
+    /// CPU per agent-cycle: `--players` of our agents and as many that only answer, in one
+    /// run (`--duration` s of play, 10 with `--short`); the ratio, the server's CPU per cycle
+    /// and the peak RSS.
+    Cycle,
 }
 
 #[derive(Args)]
@@ -35,6 +39,15 @@ pub struct BenchArgs {
     /// Seed of the random course, the get-up placements or the kick setups.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// `cycle`: agents per kind.
+    #[arg(long, default_value_t = 7)]
+    pub players: u32,
+    /// `cycle`: play time measured [s].
+    #[arg(long, default_value_t = 60.0)]
+    pub duration: f64,
+    /// `cycle`: the trees, strategy and skill files our agents run.
+    #[command(flatten)]
+    pub data: super::setup::DataArgs,
 }
 
 pub fn run(args: BenchArgs) -> CliResult {
@@ -47,6 +60,10 @@ pub fn run(args: BenchArgs) -> CliResult {
         Measure::Walk => bench_walk(&params, &args),
         Measure::GetUp => bench_get_up(&params, &args),
         Measure::Kick => bench_kick(&params, &args),
+        Measure::Cycle => {
+            let play_s = if args.short { 10.0 } else { args.duration };
+            super::bench_cycle::bench_cycle(args.players.clamp(1, 7), play_s, &args.data)
+        }
     }
 }
 

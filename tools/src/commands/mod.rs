@@ -3,6 +3,7 @@
 pub mod agent;
 pub mod behavior;
 pub mod bench;
+pub mod bench_cycle;
 pub mod matchup;
 pub mod optimize;
 pub mod scenario;

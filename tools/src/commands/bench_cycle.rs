@@ -1,0 +1,253 @@
+//! `libero bench cycle`: what one agent-cycle costs, against a same-run baseline.
+//!
+//! One fast-mode server, N of our agents (the shipped trees, one team) and N agents that only
+//! answer each percept with `(syn)` (the other team), all in this process on their own named
+//! threads. After the play time, the CPU each thread used (`/proc/self/task/*/stat`) is summed
+//! per kind and divided by the cycles it answered: ours, the baseline's, their ratio, and the
+//! server's CPU per cycle (`/proc/<pid>/stat`). Machines are noisy; the ratio from one run is
+//! the figure to compare.
+
+use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
+use super::CliResult;
+use libero_agent::connection::Connection;
+use libero_agent::{build, AgentConfig, AgentStats, Team};
+use libero_protocol::is_timeout;
+use libero_server::{ServerOptions, ServerProcess};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Linux reports thread and process CPU times in clock ticks of this many per second
+/// (`USER_HZ`, fixed by the kernel's ABI).
+const TICKS_PER_S: f64 = 100.0;
+
+/// Name prefix of the baseline's threads (ours are `agent-N`, from `Team`).
+const BASELINE_THREAD: &str = "answer-";
+
+/// user + system CPU time [s] in a `/proc/.../stat` line (fields 14 and 15; the command
+/// name in parentheses may hold spaces, so count from its closing parenthesis).
+fn cpu_seconds(stat: &str) -> Option<f64> {
+    let rest = &stat[stat.rfind(')')? + 1..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    // After ")": state is field 3, so utime (14) and stime (15) are at 11 and 12.
+    let utime: f64 = fields.get(11)?.parse().ok()?;
+    let stime: f64 = fields.get(12)?.parse().ok()?;
+    Some((utime + stime) / TICKS_PER_S)
+}
+
+/// CPU seconds of this process's threads whose name starts with `prefix`.
+fn threads_cpu(prefix: &str) -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return f64::NAN;
+    };
+    tasks
+        .flatten()
+        .filter(|t| {
+            std::fs::read_to_string(t.path().join("comm"))
+                .is_ok_and(|name| name.trim_end().starts_with(prefix))
+        })
+        .filter_map(|t| std::fs::read_to_string(t.path().join("stat")).ok())
+        .filter_map(|s| cpu_seconds(&s))
+        .sum()
+}
+
+fn process_cpu(pid: u32) -> f64 {
+    std::fs::read_to_string(format!("/proc/{pid}/stat"))
+        .ok()
+        .and_then(|s| cpu_seconds(&s))
+        .unwrap_or(f64::NAN)
+}
+
+/// Peak resident memory of this process [MB] (`VmHWM`).
+fn peak_rss_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// An agent that only answers: the greeting, then `(syn)` for every percept.
+fn answer_only(port: u16, unum: u32, replies: Arc<AtomicU64>, stop: Arc<AtomicBool>) {
+    let model = match libero_model::RobotModel::builtin("T1") {
+        Ok(m) => Arc::new(m),
+        Err(e) => return log::error!("baseline {unum}: {e}"),
+    };
+    let greeting = match build::standing_player(&model, "Baseline", unum)
+        .map_err(|e| e.to_string())
+        .and_then(|mut p| p.greeting().map_err(|e| e.to_string()))
+    {
+        Ok(g) => g,
+        Err(e) => return log::error!("baseline {unum}: {e}"),
+    };
+    let syn = {
+        let payload = b"(syn)";
+        let mut framed = (payload.len() as u32).to_be_bytes().to_vec();
+        framed.extend_from_slice(payload);
+        framed
+    };
+    let mut conn = match Connection::open("127.0.0.1", port) {
+        Ok(c) => c,
+        Err(e) => return log::error!("baseline {unum}: {e}"),
+    };
+    // As our agents do: rcsssmj 0.2.1 crashes on an agent activated before its first step.
+    std::thread::sleep(Duration::from_millis(150));
+    if let Err(e) = conn.send(&greeting) {
+        return log::error!("baseline {unum}: {e}");
+    }
+    while !stop.load(Ordering::Relaxed) {
+        match conn.read_frame() {
+            Ok(_) => {
+                if conn.send(&syn).is_err() {
+                    return;
+                }
+                replies.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(e) if is_timeout(&e) => {}
+            Err(_) => return,
+        }
+    }
+}
+
+pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
+    let shutdown = ctrl_c_flag();
+    let mut server = ServerProcess::start(ServerOptions::default())?;
+    let server_pid = server.pid().ok_or("the server is not running")?;
+    let model = load_robot("T1", None)?;
+    let source = data.source()?;
+    let skills = data.skills(&model)?;
+    let config = AgentConfig::new("127.0.0.1", server.agent_port);
+    let ours = (1..=players)
+        .map(|unum| build_player(&model, "Libero", unum, &source, &skills))
+        .collect::<Result<Vec<_>, _>>()?;
+    println!("bench cycle: {players} of our agents and {players} that only answer, {play_s} s of play on a fast-mode rcssservermj…");
+    let team = Team::start(&config, ours, shutdown.clone());
+    let stop = Arc::new(AtomicBool::new(false));
+    let mut baseline = Vec::new();
+    for unum in 1..=players {
+        let replies = Arc::new(AtomicU64::new(0));
+        let (r, s, port) = (Arc::clone(&replies), Arc::clone(&stop), server.agent_port);
+        let thread = std::thread::Builder::new()
+            .name(format!("{BASELINE_THREAD}{unum}"))
+            .spawn(move || answer_only(port, unum, r, s))?;
+        // One at a time, as `Team` joins (simultaneous joins stall the server).
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while replies.load(Ordering::Relaxed) == 0 && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        baseline.push((thread, replies));
+    }
+    let monitor = server.monitor();
+    std::thread::sleep(Duration::from_millis(500));
+    monitor.kick_off_left()?;
+    // Measure from here: joins (the server recompiling its model) are not agent cycles.
+    let ours_replies = || -> u64 {
+        team.stats
+            .iter()
+            .map(|(_, s)| AgentStats::get(&s.replies))
+            .sum()
+    };
+    let base_replies = |b: &[(std::thread::JoinHandle<()>, Arc<AtomicU64>)]| -> u64 {
+        b.iter().map(|(_, r)| r.load(Ordering::Relaxed)).sum()
+    };
+    let start = (
+        threads_cpu("agent-"),
+        threads_cpu(BASELINE_THREAD),
+        process_cpu(server_pid),
+        ours_replies(),
+        base_replies(&baseline),
+        monitor.snapshot().time,
+        Instant::now(),
+    );
+    while monitor.snapshot().time < start.5 + play_s
+        && monitor.snapshot().play_mode != "GameOver"
+        && !shutdown.load(Ordering::Relaxed)
+    {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let ours_cpu = threads_cpu("agent-") - start.0;
+    let base_cpu = threads_cpu(BASELINE_THREAD) - start.1;
+    let server_cpu = process_cpu(server_pid) - start.2;
+    let ours_cycles = ours_replies() - start.3;
+    let base_cycles = base_replies(&baseline) - start.4;
+    let played = monitor.snapshot().time - start.5;
+    let wall = start.6.elapsed().as_secs_f64();
+    let missed: u64 = team
+        .stats
+        .iter()
+        .map(|(_, s)| AgentStats::get(&s.missed_cycles))
+        .sum();
+    shutdown.store(true, Ordering::Relaxed);
+    stop.store(true, Ordering::Relaxed);
+    team.join();
+    for (thread, _) in baseline {
+        let _ = thread.join();
+    }
+    drop(server);
+    let per = |cpu: f64, cycles: u64| 1e6 * cpu / cycles.max(1) as f64;
+    let ours_us = per(ours_cpu, ours_cycles);
+    let base_us = per(base_cpu, base_cycles);
+    // The server steps once per cycle for everyone: its cycles are one agent's.
+    let server_cycles = ours_cycles / u64::from(players.max(1));
+    println!("play time: {played:.1} s in {wall:.1} s of wall time");
+    println!("ours: {ours_us:.1} us CPU per agent-cycle ({ours_cycles} agent-cycles, {ours_cpu:.2} s CPU, {missed} missed cycles)");
+    println!("baseline (answer only): {base_us:.1} us CPU per agent-cycle ({base_cycles} agent-cycles, {base_cpu:.2} s CPU)");
+    println!("ratio ours / baseline: {:.2}", ours_us / base_us);
+    println!(
+        "server: {:.0} us CPU per cycle ({server_cycles} cycles, {server_cpu:.2} s CPU)",
+        per(server_cpu, server_cycles)
+    );
+    println!(
+        "peak RSS of this process (both teams): {:.1} MB",
+        peak_rss_mb()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cpu_times_are_read_from_a_stat_line_whose_name_has_spaces() {
+        let line = "4242 (agent 7 (x)) S 1 2 3 4 5 6 7 8 9 10 250 50 0 0 20 0 1 0";
+        assert_eq!(cpu_seconds(line), Some(3.0));
+        assert_eq!(cpu_seconds("garbage"), None);
+    }
+
+    #[test]
+    fn a_threads_cpu_time_is_found_by_its_name() {
+        // A busy thread and a sleeping one, 300 ms each: the busy one used CPU (at least a
+        // third of the time even on a loaded machine), the sleeper next to none.
+        let run = |name: &str, busy: bool| {
+            let prefix = name.to_string();
+            std::thread::Builder::new()
+                .name(name.into())
+                .spawn(move || {
+                    let until = Instant::now() + Duration::from_millis(300);
+                    let mut x = 0u64;
+                    while Instant::now() < until {
+                        if busy {
+                            x = x.wrapping_mul(31).wrapping_add(1);
+                        } else {
+                            std::thread::sleep(Duration::from_millis(10));
+                        }
+                    }
+                    std::hint::black_box(x);
+                    threads_cpu(&prefix)
+                })
+                .unwrap()
+                .join()
+                .unwrap()
+        };
+        let busy = run("cpubusy-1", true);
+        let idle = run("cpuidle-1", false);
+        assert!((0.1..=0.5).contains(&busy), "busy: {busy} s");
+        assert!(idle < 0.05, "sleeping: {idle} s");
+        assert!(peak_rss_mb() > 1.0);
+    }
+}
