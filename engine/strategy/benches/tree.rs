@@ -46,27 +46,32 @@ impl Host for BenchHost {
 /// The field player's play-on decisions written directly in Rust: the baseline.
 fn hand_written(
     host: &mut BenchHost,
-    ids: &[libero_behavior::NativeId; 6],
-    modes: &[Value; 2],
+    ids: &[libero_behavior::NativeId; 8],
+    modes: &[Value; 1],
 ) -> Status {
-    let [fallen, mode, closest, distance, ball, kick] = *ids;
+    let [can_beam, fallen, mode, closest, distance, ball, shot_is_good, dribble] = *ids;
+    if host.condition(can_beam, Args(&[])) {
+        return Status::Running;
+    }
     if host.condition(fallen, Args(&[])) {
         return Status::Running;
     }
-    if host.condition(mode, Args(&modes[..1])) {
-        return Status::Running;
-    }
-    if !host.condition(mode, Args(&modes[1..])) {
+    if !host.condition(mode, Args(&modes[..1])) {
         return Status::Running;
     }
     let chase = 0.5 * f64::from(u8::from(host.query(closest, Args(&[])).as_bool()))
         + 0.5 * (1.0 - host.query(distance, Args(&[])).as_f64() / 20.0);
-    let target = if chase + 0.1 > 0.6 {
-        host.query(ball, Args(&[]))
-    } else {
-        Value::Vec2(Vec2::new(-5.0, 0.0))
-    };
-    host.action(kick, Args(&[target, Value::Float(0.0), Value::Float(4.0)]))
+    if chase + 0.1 <= 0.6 {
+        return host.action(dribble, Args(&[Value::Vec2(Vec2::new(-5.0, 0.0))]));
+    }
+    if host.condition(shot_is_good, Args(&[])) {
+        return Status::Running;
+    }
+    let target = host.query(ball, Args(&[]));
+    host.action(
+        dribble,
+        Args(&[target, Value::Float(0.5), Value::Float(4.0)]),
+    )
 }
 
 fn tick(c: &mut Criterion) {
@@ -82,7 +87,7 @@ fn tick(c: &mut Criterion) {
         .last()
         .unwrap()
         .leaves()
-        .contains(&("Action KickTo", Status::Running)));
+        .contains(&("Action DribbleTo", Status::Running)));
     c.bench_function("tick field player (engine)", |b| {
         b.iter(|| runner.tick(&mut host, &library))
     });
@@ -94,17 +99,16 @@ fn tick(c: &mut Criterion) {
     });
     use libero_behavior::NativeKind::*;
     let ids = [
+        vocabulary.find(Condition, "CanBeam").unwrap(),
         vocabulary.find(Condition, "IsFallen").unwrap(),
         vocabulary.find(Condition, "PlayModeIs").unwrap(),
         vocabulary.find(Query, "am_closest_to_ball").unwrap(),
         vocabulary.find(Query, "ball_distance").unwrap(),
         vocabulary.find(Query, "ball_position").unwrap(),
-        vocabulary.find(Action, "KickTo").unwrap(),
+        vocabulary.find(Condition, "ShotIsGood").unwrap(),
+        vocabulary.find(Action, "DribbleTo").unwrap(),
     ];
-    let modes = [
-        Value::String("BeforeKickOff".into()),
-        Value::String("PlayOn".into()),
-    ];
+    let modes = [Value::String("PlayOn".into())];
     c.bench_function("tick field player (hand-written baseline)", |b| {
         b.iter(|| hand_written(&mut host, black_box(&ids), &modes))
     });
