@@ -70,27 +70,7 @@ impl AgentHost<'_> {
                 self.look_for_ball();
                 return Status::Running;
             }
-            let behind =
-                ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
-            let obstacles = self.obstacles(Some(ball));
-            let field = self.strategy.field();
-            let waypoint = self
-                .memory
-                .avoidance
-                .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
-            log::trace!(
-                "t {:.2} dribble: me {:?} to {:?} via {:?} obstacles {:?}",
-                world.time,
-                me,
-                behind,
-                waypoint,
-                obstacles
-                    .iter()
-                    .map(|o| (o.at.x, o.at.y))
-                    .collect::<Vec<_>>()
-            );
-            self.walk_towards(waypoint, Some(ball), f64::INFINITY);
-            self.look_at_ball();
+            self.walk_behind_ball(ball, direction);
             return Status::Running;
         }
         let heading = world

@@ -282,27 +282,7 @@ impl AgentHost<'_> {
         // Far from the ball (and not yet kicking), walk round obstacles, the ball among them, to
         // a point behind it on the kick line; there the kick skill's own approach takes over.
         if self.skills.kick == KickState::Idle && me.distance(ball) > avoidance.handover_m {
-            let behind =
-                ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
-            let obstacles = self.obstacles(Some(ball));
-            let field = self.strategy.field();
-            let waypoint = self
-                .memory
-                .avoidance
-                .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
-            log::trace!(
-                "t {:.2} me {:?} to {:?} via {:?} obstacles {:?}",
-                world.time,
-                me,
-                behind,
-                waypoint,
-                obstacles
-                    .iter()
-                    .map(|o| (o.at.x, o.at.y))
-                    .collect::<Vec<_>>()
-            );
-            self.walk_towards(waypoint, Some(ball), f64::INFINITY);
-            self.look_at_ball();
+            self.walk_behind_ball(ball, direction);
             return Status::Running;
         }
         let heading = self
@@ -317,6 +297,36 @@ impl AgentHost<'_> {
             distance_m: if distance > 0.0 { distance } else { to_target },
         };
         Status::Running
+    }
+
+    /// One cycle's walk round obstacles, the ball among them, to `avoidance.behind_ball_m`
+    /// behind the ball on the line leaving it at `direction` [rad, own frame], facing and
+    /// watching the ball (the far part of `KickTo` and `DribbleTo`).
+    pub(crate) fn walk_behind_ball(&mut self, ball: Own, direction: f64) {
+        let world = self.world;
+        let me = self.me();
+        let avoidance = self.strategy.avoidance.unwrap_or_default();
+        let behind =
+            ball - Own::new(direction.cos(), direction.sin()).scaled(avoidance.behind_ball_m);
+        let obstacles = self.obstacles(Some(ball));
+        let field = self.strategy.field();
+        let waypoint = self
+            .memory
+            .avoidance
+            .next_waypoint(&avoidance, &field, me, behind, &obstacles, world.time);
+        log::trace!(
+            "t {:.2} me {:?} to {:?} via {:?} obstacles {:?}",
+            world.time,
+            me,
+            behind,
+            waypoint,
+            obstacles
+                .iter()
+                .map(|o| (o.at.x, o.at.y))
+                .collect::<Vec<_>>()
+        );
+        self.walk_towards(waypoint, Some(ball), f64::INFINITY);
+        self.look_at_ball();
     }
 
     /// Points the head at the ball's estimate.

@@ -1,6 +1,34 @@
 use super::*;
 use std::collections::HashSet;
 
+/// One call of the action `name` with `args` on the shipped files, with the skills reporting
+/// `skills`: its status and the intent it wrote.
+fn run_action(
+    world: &libero_world::World,
+    name: &str,
+    args: &[Value],
+    skills: libero_skills::SkillStatus,
+) -> (Status, libero_skills::Intent) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let natives = Natives::new();
+    let mut memory = PlayerMemory::default();
+    let mut intent = libero_skills::Intent::default();
+    let mut host = AgentHost::new(
+        world,
+        crate::strategy_of(&library),
+        &natives,
+        &skills,
+        &mut memory,
+        &mut intent,
+    );
+    let id = vocabulary()
+        .find(libero_behavior::NativeKind::Action, name)
+        .unwrap();
+    let status = host.action(id, Args(args));
+    (status, intent)
+}
+
 #[test]
 fn every_node_declares_a_unique_name_its_kind_and_documents_its_ports() {
     let mut names = HashSet::new();
@@ -45,35 +73,18 @@ fn ports_are_read_by_name_whatever_their_order() {
 }
 
 mod kick_to {
-    use crate::{strategy_of, AgentHost, Natives, PlayerMemory};
-    use libero_behavior::{Args, Host, NativeKind, Status, Value, Vec2};
+    use libero_behavior::{Status, Value, Vec2};
     use libero_skills::kick::KickState;
     use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
     use libero_world::{Side, World};
 
     fn tick(world: &World, target: Vec2, kick: KickState) -> (Status, Intent) {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
-        let vocabulary = crate::vocabulary();
-        let natives = Natives::new();
         let skills = SkillStatus {
             kick,
             ..SkillStatus::default()
         };
-        let mut memory = PlayerMemory::default();
-        let mut intent = Intent::default();
-        let mut host = AgentHost::new(
-            world,
-            strategy_of(&library),
-            &natives,
-            &skills,
-            &mut memory,
-            &mut intent,
-        );
-        let id = vocabulary.find(NativeKind::Action, "KickTo").unwrap();
         let args = [Value::Vec2(target), Value::Float(0.0), Value::Float(4.0)];
-        let status = host.action(id, Args(&args));
-        (status, intent)
+        super::run_action(world, "KickTo", &args, skills)
     }
 
     /// The right team (own frame = global turned 180°), the robot 0.8 m behind the ball in the
@@ -163,34 +174,17 @@ mod kick_to {
 }
 
 mod dribble_to {
-    use crate::{strategy_of, AgentHost, Natives, PlayerMemory};
-    use libero_behavior::{Args, Host, NativeKind, Status, Value, Vec2};
+    use libero_behavior::{Status, Value, Vec2};
     use libero_skills::{BodyIntent, DribbleState, HeadIntent, Intent, SkillStatus};
     use libero_world::{Side, World};
 
     fn tick(world: &World, target: Vec2, dribble: DribbleState) -> (Status, Intent) {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
-        let vocabulary = crate::vocabulary();
-        let natives = Natives::new();
         let skills = SkillStatus {
             dribble,
             ..SkillStatus::default()
         };
-        let mut memory = PlayerMemory::default();
-        let mut intent = Intent::default();
-        let mut host = AgentHost::new(
-            world,
-            strategy_of(&library),
-            &natives,
-            &skills,
-            &mut memory,
-            &mut intent,
-        );
-        let id = vocabulary.find(NativeKind::Action, "DribbleTo").unwrap();
         let args = [Value::Vec2(target), Value::Float(0.5), Value::Float(4.0)];
-        let status = host.action(id, Args(&args));
-        (status, intent)
+        super::run_action(world, "DribbleTo", &args, skills)
     }
 
     /// The right team (own frame = global turned 180°), facing the opponents' goal, the ball
@@ -321,31 +315,13 @@ mod shot_is_good {
 }
 
 mod search_ball {
-    use crate::{strategy_of, AgentHost, Natives, PlayerMemory};
-    use libero_behavior::{Args, Host, NativeKind, Status, Value};
+    use libero_behavior::{Status, Value};
     use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
     use libero_world::{Side, World};
 
     fn tick(world: &World) -> (Status, Intent) {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-        let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
-        let natives = Natives::new();
-        let skills = SkillStatus::default();
-        let mut memory = PlayerMemory::default();
-        let mut intent = Intent::default();
-        let mut host = AgentHost::new(
-            world,
-            strategy_of(&library),
-            &natives,
-            &skills,
-            &mut memory,
-            &mut intent,
-        );
-        let id = crate::vocabulary()
-            .find(NativeKind::Action, "SearchBall")
-            .unwrap();
-        let status = host.action(id, Args(&[Value::Float(40.0), Value::Float(0.5)]));
-        (status, intent)
+        let args = [Value::Float(40.0), Value::Float(0.5)];
+        super::run_action(world, "SearchBall", &args, SkillStatus::default())
     }
 
     #[test]
