@@ -99,7 +99,7 @@ pub fn run_agent(
     let mut out = Vec::with_capacity(4096);
     while !shutdown.load(Ordering::Relaxed) {
         // Held from connecting to the first percept (or the end of the attempt).
-        let gate = config
+        let mut gate = config
             .join_gate
             .as_ref()
             .map(|g| g.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner()));
@@ -147,7 +147,6 @@ pub fn run_agent(
                 return Ok(());
             }
         }
-        let mut gate = gate;
         let mut heard_at = Instant::now();
         let mut answered = 0u64;
         let mut silence_reported = false;

@@ -201,25 +201,13 @@ impl Dribble {
             let correction =
                 (off * p.across_gain_per_s).clamp(-p.push_sideways_m_s, p.push_sideways_m_s);
             let v = d * speed - left * correction;
-            let v = Velocity {
+            return Velocity {
                 forward_m_s: v.x,
                 sideways_m_s: v.y,
                 turn_deg_s: (p.turn_gain_per_s * theta)
                     .clamp(-p.push_turn_deg_s, p.push_turn_deg_s),
-            };
-            // Within the walk's limits, keeping the direction of travel.
-            let scale = [
-                v.forward_m_s.abs() / w.max_forward_m_s.max(1e-6),
-                v.sideways_m_s.abs() / w.max_sideways_m_s.max(1e-6),
-                1.0,
-            ]
-            .into_iter()
-            .fold(0.0f64, f64::max);
-            return Velocity {
-                forward_m_s: v.forward_m_s / scale,
-                sideways_m_s: v.sideways_m_s / scale,
-                ..v
-            };
+            }
+            .within_limits(w);
         }
         self.state = DribbleState::LiningUp;
         let place = b - d * p.behind_m + left * (self.side * p.ball_beside_m);

@@ -84,12 +84,8 @@ fn answer_only(port: u16, unum: u32, replies: Arc<AtomicU64>, stop: Arc<AtomicBo
         Ok(g) => g,
         Err(e) => return log::error!("baseline {unum}: {e}"),
     };
-    let syn = {
-        let payload = b"(syn)";
-        let mut framed = (payload.len() as u32).to_be_bytes().to_vec();
-        framed.extend_from_slice(payload);
-        framed
-    };
+    let mut syn = Vec::new();
+    libero_protocol::encode_frame(b"(syn)", &mut syn);
     let mut conn = match Connection::open("127.0.0.1", port) {
         Ok(c) => c,
         Err(e) => return log::error!("baseline {unum}: {e}"),

@@ -48,6 +48,28 @@ impl Velocity {
         }
     }
 
+    /// Within the walk's forward, backward and sideways limits, keeping the direction of
+    /// travel (both components scaled together when one exceeds its limit).
+    pub fn within_limits(self, p: &WalkParams) -> Velocity {
+        let forward_limit = if self.forward_m_s >= 0.0 {
+            p.max_forward_m_s
+        } else {
+            p.max_backward_m_s
+        };
+        let scale = [
+            self.forward_m_s.abs() / forward_limit.max(1e-6),
+            self.sideways_m_s.abs() / p.max_sideways_m_s.max(1e-6),
+            1.0,
+        ]
+        .into_iter()
+        .fold(0.0f64, f64::max);
+        Velocity {
+            forward_m_s: self.forward_m_s / scale,
+            sideways_m_s: self.sideways_m_s / scale,
+            ..self
+        }
+    }
+
     fn is_zero(&self) -> bool {
         self.forward_m_s.abs() < 1e-4
             && self.sideways_m_s.abs() < 1e-4

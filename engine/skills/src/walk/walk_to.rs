@@ -21,22 +21,13 @@ pub fn velocity_towards(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> O
     } else {
         (t.gain_per_s * x, t.gain_per_s * y, heading_deg)
     };
-    // Keep the direction of travel when a component exceeds its limit: scale both together.
-    let forward_limit = if forward >= 0.0 {
-        p.max_forward_m_s
-    } else {
-        p.max_backward_m_s
-    };
-    let scale = [
-        forward.abs() / forward_limit.max(1e-6),
-        sideways.abs() / p.max_sideways_m_s.max(1e-6),
-        1.0,
-    ]
-    .into_iter()
-    .fold(0.0f64, f64::max);
-    Some(Velocity {
-        forward_m_s: forward / scale,
-        sideways_m_s: sideways / scale,
-        turn_deg_s: (t.turn_gain_per_s * turn_error_deg).clamp(-p.max_turn_deg_s, p.max_turn_deg_s),
-    })
+    Some(
+        Velocity {
+            forward_m_s: forward,
+            sideways_m_s: sideways,
+            turn_deg_s: (t.turn_gain_per_s * turn_error_deg)
+                .clamp(-p.max_turn_deg_s, p.max_turn_deg_s),
+        }
+        .within_limits(p),
+    )
 }

@@ -65,11 +65,11 @@ impl AgentHost<'_> {
         // Far from the ball, walk round obstacles (the ball among them) to behind it on the
         // line; near it the skill lines up and pushes. Once dribbling, the skill keeps the ball
         // on its own estimate through short gaps (a ball at the feet is often out of view).
-        if !dribbling && (me.distance(ball) > avoidance.handover_m || ball_age > 0.5) {
-            if ball_age > 0.5 {
-                self.look_for_ball();
-                return Status::Running;
-            }
+        if !dribbling && ball_age > 0.5 {
+            self.look_for_ball();
+            return Status::Running;
+        }
+        if !dribbling && me.distance(ball) > avoidance.handover_m {
             self.walk_behind_ball(ball, direction);
             return Status::Running;
         }
