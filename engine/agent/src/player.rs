@@ -247,6 +247,15 @@ impl Player {
         if let Ok(mut truth) = self.stats.truth_position.lock() {
             *truth = self.world.truth.torso_position;
         }
+        let side = match self.world.game.side {
+            Some(libero_world::Side::Left) => 1,
+            Some(libero_world::Side::Right) => 2,
+            None => 0,
+        };
+        self.stats.side.store(side, Ordering::Relaxed);
+        if let Ok(mut estimate) = self.stats.self_estimate.lock() {
+            *estimate = Some(self.world.me.position);
+        }
     }
 }
 

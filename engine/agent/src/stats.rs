@@ -20,6 +20,11 @@ pub struct AgentStats {
     pub last_time_ms: AtomicU64,
     /// The server's ground-truth torso position in the last percept (evaluation only).
     pub truth_position: Mutex<Option<[f64; 3]>>,
+    /// The agent's own estimate of its ground position in the same percept (global frame), so
+    /// an evaluation compares the two cycle by cycle.
+    pub self_estimate: Mutex<Option<[f64; 2]>>,
+    /// The side the server gave the team: 0 not known yet, 1 left, 2 right.
+    pub side: std::sync::atomic::AtomicU8,
     /// The decision trace of the last cycle, when the player shares it.
     pub trace: Mutex<Option<String>>,
     /// Whether the last cycle played a whole-body motion (get-up or save) that nothing
@@ -40,6 +45,20 @@ impl AgentStats {
     /// The last ground-truth torso position the server sent.
     pub fn truth_position(&self) -> Option<[f64; 3]> {
         self.truth_position.lock().ok().and_then(|t| *t)
+    }
+
+    /// The team's side once the server has told it (`true` = left).
+    pub fn plays_left(&self) -> Option<bool> {
+        match self.side.load(Ordering::Relaxed) {
+            1 => Some(true),
+            2 => Some(false),
+            _ => None,
+        }
+    }
+
+    /// The agent's own position estimate in the last percept.
+    pub fn self_estimate(&self) -> Option<[f64; 2]> {
+        self.self_estimate.lock().ok().and_then(|t| *t)
     }
 
     /// The last shared decision trace.

@@ -27,6 +27,14 @@ impl Rules {
         }
     }
 
+    /// Play time of one half [s] (the referee's `GameOver`).
+    pub fn half_time_s(self) -> f64 {
+        match self {
+            Rules::Ssim => 300.0,
+            Rules::Fifa => 2700.0,
+        }
+    }
+
     pub fn players_per_team(self) -> u32 {
         match self {
             Rules::Ssim => 7,

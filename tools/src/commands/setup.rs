@@ -2,7 +2,7 @@
 
 use libero_agent::{LibrarySource, Player, SkillSource};
 use libero_model::RobotModel;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -48,6 +48,28 @@ pub struct DataArgs {
 }
 
 impl DataArgs {
+    /// A team folder's files: `behaviors/`, `formations/` and `t1.ron` (skill parameters)
+    /// where the folder has them, else `base`'s choice (the repository's files by default).
+    pub fn from_team_dir(dir: &Path, base: &DataArgs) -> Result<DataArgs, String> {
+        if !dir.is_dir() {
+            return Err(format!("team folder {} does not exist", dir.display()));
+        }
+        let sub = |name: &str| Some(dir.join(name)).filter(|p| p.exists());
+        let data = DataArgs {
+            behaviors: sub("behaviors").or_else(|| base.behaviors.clone()),
+            formations: sub("formations").or_else(|| base.formations.clone()),
+            skill_params: sub("t1.ron").or_else(|| base.skill_params.clone()),
+            no_watch: base.no_watch,
+        };
+        if data.behaviors.is_none() && data.formations.is_none() && data.skill_params.is_none() {
+            return Err(format!(
+                "team folder {} has none of behaviors/, formations/, t1.ron",
+                dir.display()
+            ));
+        }
+        Ok(data)
+    }
+
     /// Load (and, unless `--no-watch`, watch) the files; every error is reported at once.
     pub fn source(&self) -> Result<LibrarySource, Box<dyn std::error::Error>> {
         let defaults = libero_agent::build::default_data_dirs();

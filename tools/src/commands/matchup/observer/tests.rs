@@ -1,0 +1,167 @@
+use super::*;
+
+const GOALS: Goals = Goals {
+    half_length: 27.5,
+    goal_half_width: 1.83,
+};
+
+fn robot(left: bool, unum: u32, x: f64, y: f64, z: f64) -> RobotSample {
+    RobotSample {
+        left,
+        unum,
+        torso: [x, y, z],
+        estimate: Some([x + 0.1, y]),
+    }
+}
+
+fn sample(time: f64, mode: &str, ball: [f64; 2], robots: Vec<RobotSample>) -> Sample {
+    Sample {
+        time,
+        mode: mode.into(),
+        ball: [ball[0], ball[1], 0.11],
+        score: (0, 0),
+        robots,
+    }
+}
+
+/// The ball rolling from `from` along `velocity` for 1 s, a kicker of `left` at the start.
+fn kick(left: bool, from: [f64; 2], velocity: [f64; 2]) -> [Figures; 2] {
+    let mut observer = Observer::new(GOALS);
+    let kicker = || vec![robot(left, 7, from[0] - 0.3, from[1], 0.6)];
+    observer.feed(sample(10.0, "PlayOn", from, kicker()));
+    observer.feed(sample(10.02, "PlayOn", from, kicker()));
+    for i in 1..=50 {
+        let t = i as f64 * 0.02;
+        let at = [from[0] + velocity[0] * t, from[1] + velocity[1] * t];
+        observer.feed(sample(10.02 + t, "PlayOn", at, kicker()));
+    }
+    observer.finish(20.0).0
+}
+
+#[test]
+fn a_kick_at_the_goal_mouth_is_a_shot_on_target() {
+    let [left, right] = kick(true, [15.0, 0.0], [5.0, 0.2]);
+    assert_eq!((left.shots, left.shots_on_target), (1, 1));
+    assert_eq!(right.shots, 0);
+}
+
+#[test]
+fn a_kick_just_wide_is_a_shot_off_target_and_one_far_wide_is_none() {
+    let wide = kick(true, [15.0, 0.0], [5.0, 1.2]);
+    assert_eq!((wide[0].shots, wide[0].shots_on_target), (1, 0));
+    let far_wide = kick(true, [15.0, 0.0], [5.0, 4.0]);
+    assert_eq!(far_wide[0].shots, 0);
+}
+
+#[test]
+fn a_kick_backwards_or_from_far_out_is_no_shot() {
+    assert_eq!(kick(true, [15.0, 0.0], [-5.0, 0.0])[0].shots, 0);
+    assert_eq!(kick(true, [-5.0, 0.0], [5.0, 0.0])[0].shots, 0);
+}
+
+#[test]
+fn the_right_team_shoots_at_the_goal_at_minus_x() {
+    let [left, right] = kick(false, [-15.0, 0.0], [-5.0, 0.0]);
+    assert_eq!((right.shots, right.shots_on_target), (1, 1));
+    assert_eq!(left.shots, 0);
+}
+
+#[test]
+fn falls_count_with_how_long_the_robot_lay() {
+    let mut observer = Observer::new(GOALS);
+    let mut t = 0.0;
+    let mut feed = |observer: &mut Observer, z: f64, until: f64| {
+        while t < until {
+            observer.feed(sample(
+                t,
+                "PlayOn",
+                [5.0, 5.0],
+                vec![robot(true, 2, 0.0, 0.0, z)],
+            ));
+            t += 0.02;
+        }
+    };
+    feed(&mut observer, 0.6, 1.0);
+    feed(&mut observer, 0.2, 4.0); // down 3 s
+    feed(&mut observer, 0.6, 10.0);
+    feed(&mut observer, 0.2, 20.0); // down 10 s
+    feed(&mut observer, 0.6, 30.0);
+    let [left, _] = observer.finish(30.0).0;
+    assert_eq!(left.falls, 2);
+    assert_eq!(left.falls_slow_to_stand, 1);
+    assert!((left.longest_down_s - 10.0).abs() < 0.1, "{left:?}");
+    assert!(
+        (left.most_down_share - 13.0 / 30.0).abs() < 0.01,
+        "{left:?}"
+    );
+}
+
+#[test]
+fn a_jump_in_play_is_a_relocation_and_a_beam_is_not() {
+    let mut observer = Observer::new(GOALS);
+    let at = |x: f64| vec![robot(true, 4, x, 0.0, 0.6)];
+    observer.feed(sample(1.0, "PlayOn", [9.0, 9.0], at(0.0)));
+    observer.feed(sample(1.02, "PlayOn", [9.0, 9.0], at(0.0)));
+    observer.feed(sample(1.04, "PlayOn", [9.0, 9.0], at(-4.0)));
+    observer.feed(sample(2.0, "Goal_Left", [9.0, 9.0], at(-4.0)));
+    observer.feed(sample(2.02, "Goal_Left", [9.0, 9.0], at(-10.0)));
+    observer.feed(sample(5.0, "KickOff_Right", [0.0, 0.0], at(-10.0)));
+    let [left, _] = observer.finish(5.0).0;
+    assert_eq!(left.relocations, 1);
+}
+
+#[test]
+fn a_pass_is_a_teammate_holding_the_ball_next_after_it_travelled() {
+    let mut observer = Observer::new(GOALS);
+    let team = vec![robot(true, 2, 0.0, 0.0, 0.6), robot(true, 3, 4.0, 0.0, 0.6)];
+    let mut t = 0.0;
+    for x in [0.2, 0.2, 1.0, 2.0, 3.0, 3.8, 3.8] {
+        observer.feed(sample(t, "PlayOn", [x, 0.0], team.clone()));
+        t += 0.1;
+    }
+    // Then an opponent takes it: no pass.
+    let mut with_opponent = team.clone();
+    with_opponent.push(robot(false, 5, 8.0, 0.0, 0.6));
+    for x in [5.0, 6.0, 7.0, 7.8] {
+        observer.feed(sample(t, "PlayOn", [x, 0.0], with_opponent.clone()));
+        t += 0.1;
+    }
+    let [left, right] = observer.finish(t).0;
+    assert_eq!(left.passes_completed, 1);
+    assert_eq!(right.passes_completed, 0);
+}
+
+#[test]
+fn kick_off_time_runs_from_the_mode_to_the_first_touch() {
+    let mut observer = Observer::new(GOALS);
+    observer.feed(sample(0.0, "BeforeKickOff", [0.0, 0.0], vec![]));
+    observer.feed(sample(0.0, "KickOff_Left", [0.0, 0.0], vec![]));
+    observer.feed(sample(1.0, "KickOff_Left", [0.0, 0.0], vec![]));
+    observer.feed(sample(2.1, "PlayOn", [0.0, 0.0], vec![]));
+    observer.feed(sample(50.0, "KickOff_Right", [0.0, 0.0], vec![]));
+    observer.feed(sample(65.0, "PlayOn", [0.0, 0.0], vec![]));
+    let [left, right] = observer.finish(65.0).0;
+    assert_eq!(left.kick_off_times_s, vec![2.1]);
+    assert_eq!(right.kick_off_times_s, vec![15.0]);
+}
+
+#[test]
+fn possession_goes_to_the_side_nearer_the_ball_and_localization_is_averaged() {
+    let mut observer = Observer::new(GOALS);
+    let robots = vec![
+        robot(true, 2, 0.0, 0.0, 0.6),
+        robot(false, 2, 1.5, 0.0, 0.6),
+    ];
+    for i in 0..=100 {
+        observer.feed(sample(
+            i as f64 * 0.02,
+            "PlayOn",
+            [0.3, 0.0],
+            robots.clone(),
+        ));
+    }
+    let [left, right] = observer.finish(2.0).0;
+    assert!((left.possession_s - 2.0).abs() < 0.03, "{left:?}");
+    assert_eq!(right.possession_s, 0.0);
+    assert!((left.localization_error_m.unwrap() - 0.1).abs() < 1e-9);
+}
