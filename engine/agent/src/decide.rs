@@ -136,9 +136,11 @@ impl Decider for TreeDecider {
             let path = self.trace_line();
             if path != self.logged_path {
                 log::debug!(
-                    "t {:.2} player {}: {}",
+                    "t {:.2} {} {} [{:?}]: {}",
                     world.time,
+                    world.game.team,
                     self.unum,
+                    world.game.play_mode,
                     path.as_deref().unwrap_or("-")
                 );
                 self.logged_path = path;

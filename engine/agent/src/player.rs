@@ -54,6 +54,10 @@ impl Player {
         let world = World::new(&model, team, unum);
         let mut targets = JointTargets::default();
         targets.hold_pose(&model, skills.stand_pose());
+        // The first decision already sees what the skills report of themselves (the kicking
+        // place a first-cycle beam puts the kick-off taker on).
+        let mut decider = decider;
+        decider.observe(&skills.status());
         Self {
             writer: ActionWriter::new(model.server),
             model,

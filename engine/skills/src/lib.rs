@@ -15,7 +15,7 @@ pub mod walk;
 
 pub use dribble::{DribbleParams, DribbleState};
 pub use intent::{BodyIntent, HeadIntent, Intent};
-pub use kick::{KickParams, KickState};
+pub use kick::{KickGeometry, KickParams, KickState};
 pub use params::{ParamsError, SkillParams};
 pub use pose::{JointTarget, JointTargets};
 pub use save::{DiveSide, SaveParams, SaveState};
@@ -45,6 +45,9 @@ pub struct SkillStatus {
     pub dribble: DribbleState,
     /// The long kick's measured spread (from the parameter file).
     pub kick_spread: kick::KickSpread,
+    /// Where the kick wants the ball and how its balls curve (from the parameter file): for a
+    /// beam straight to the kicking place.
+    pub kick_geometry: kick::KickGeometry,
     pub save: SaveState,
 }
 
@@ -55,6 +58,7 @@ impl Default for SkillStatus {
             kick: KickState::Idle,
             dribble: DribbleState::Idle,
             kick_spread: kick::KickSpread::default(),
+            kick_geometry: kick::KickGeometry::default(),
             save: SaveState::Idle,
         }
     }
@@ -159,6 +163,7 @@ impl Skills {
             kick: self.kick.state(),
             dribble: self.dribble.state(),
             kick_spread: self.params.kick.measured,
+            kick_geometry: kick::KickGeometry::of(&self.params.kick),
             save: self.save.state(),
         }
     }

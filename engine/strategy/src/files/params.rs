@@ -285,6 +285,10 @@ pub struct TeamParams {
     pub goalkeeper_tree: (String, Span),
     pub field_player_tree: (String, Span),
     pub formations: BTreeMap<Situation, (String, Span)>,
+    /// Which side kicks off the first half (`true` = left), when the competition says so:
+    /// before that kick-off the team then takes its own or its kick-off-theirs positions.
+    /// Unknown: the positions that are legal either way.
+    pub left_kicks_off_first: Option<bool>,
 }
 
 pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
@@ -308,6 +312,24 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
     let goalkeeper_tree = named(decoder, &mut fields, "goalkeeper_tree");
     let field_player_tree = named(decoder, &mut fields, "field_player_tree");
     let formations_node = fields.require(decoder, "formations");
+    let left_kicks_off_first =
+        fields
+            .take("first_kick_off")
+            .and_then(|n| match decoder.string(n).as_deref() {
+                Some("Left") => Some(true),
+                Some("Right") => Some(false),
+                Some(other) => {
+                    decoder
+                        .error(
+                            "invalid-value",
+                            n.span,
+                            format!("unknown side `{other}` for `first_kick_off`"),
+                        )
+                        .hint = Some("`Left` or `Right`; leave it out when unknown".into());
+                    None
+                }
+                None => None,
+            });
     fields.finish(
         decoder,
         &[
@@ -315,6 +337,7 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
             "goalkeeper_tree",
             "field_player_tree",
             "formations",
+            "first_kick_off",
         ],
     );
     let mut formations = BTreeMap::new();
@@ -358,6 +381,7 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
         field: field?,
         goalkeeper_tree: goalkeeper_tree?,
         field_player_tree: field_player_tree?,
+        left_kicks_off_first,
         formations,
     })
 }

@@ -92,9 +92,23 @@ impl AgentHost<'_> {
     /// The situation that picks the formation.
     pub(crate) fn situation(&self) -> Situation {
         match self.team_play_mode() {
-            // Before the first kick-off nobody knows who kicks off: take the positions that are
-            // legal either way (the referee relocates defenders inside the centre circle).
-            "KickOffTheirs" | "GoalOwn" | "BeforeKickOff" => Situation::KickOffTheirs,
+            // Before the first kick-off the team file may say who kicks off; otherwise take the
+            // positions that are legal either way (the referee relocates defenders inside the
+            // centre circle).
+            "BeforeKickOff" => {
+                let first = self
+                    .strategy
+                    .team
+                    .as_ref()
+                    .and_then(|t| t.left_kicks_off_first);
+                match (first, self.world.game.side) {
+                    (Some(true), Some(Side::Left)) | (Some(false), Some(Side::Right)) => {
+                        Situation::KickOffOwn
+                    }
+                    _ => Situation::KickOffTheirs,
+                }
+            }
+            "KickOffTheirs" | "GoalOwn" => Situation::KickOffTheirs,
             "KickOffOwn" | "GoalTheirs" => Situation::KickOffOwn,
             m if m.ends_with("Own") => Situation::SetPlayOwn,
             m if m.ends_with("Theirs") => Situation::SetPlayTheirs,

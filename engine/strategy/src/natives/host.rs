@@ -13,6 +13,9 @@ pub struct PlayerMemory {
     pub avoidance: crate::avoidance::Planner,
     /// When `ShotIsGood` last held (conditions only read the host: hence a cell).
     pub shot_good_at: std::cell::Cell<Option<f64>>,
+    /// When this player last asked for a kick while taking an own set play: until another
+    /// robot has been at the ball it may not touch it again (`MayPlayBall`).
+    pub set_play_kick_at: std::cell::Cell<Option<f64>>,
 }
 
 /// One tick's view of the world, and the intent it fills in.

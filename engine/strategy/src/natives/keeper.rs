@@ -51,7 +51,7 @@ fn defend_goal_ports() -> NodeSpec {
 fn defend_goal(host: &mut AgentHost, _: &Ports) -> Status {
     let point = host.defense_point();
     let ball = host.ball();
-    host.walk_to(point, Some(ball), f64::INFINITY, 0.0);
+    host.walk_to(point, Some(ball), false, f64::INFINITY, 0.0);
     // The head stays on the ball, but a keeper that only watches the ball sees too few
     // landmarks and its self-estimate drifts (then every ball estimate is wrong): it scans
     // for `scan_s` every `scan_every_s`.

@@ -14,6 +14,7 @@ mod host;
 mod keeper;
 mod motion;
 mod queries;
+mod set_plays;
 mod shooting;
 
 pub use host::{AgentHost, PlayerMemory};
@@ -80,6 +81,7 @@ pub fn catalogue() -> impl Iterator<Item = &'static Native> {
         queries::NODES,
         keeper::NODES,
         shooting::NODES,
+        set_plays::NODES,
     ]
     .into_iter()
     .flatten()

@@ -33,7 +33,13 @@ fn beam_to_formation(host: &mut AgentHost, _: &Ports) -> Status {
         )
         .map(own)
         .unwrap_or_else(|| host.me());
-    host.intent.beam = Some([p.x, p.y, 0.0]);
+    // Facing the kick-off spot: the ball in view from the first look.
+    let yaw = if p.norm() > 0.5 {
+        (-p.y).atan2(-p.x).to_degrees()
+    } else {
+        0.0
+    };
+    host.intent.beam = Some([p.x, p.y, yaw]);
     // Until the server has told us our side (SimSpark: after `init` took effect) a beam is not
     // sent; keep asking.
     if host.world.game.side.is_some() {
@@ -111,11 +117,23 @@ fn walk_to_ports() -> NodeSpec {
             .default(Value::Float(0.3))
             .doc("arrival radius"),
     )
+    .param(
+        ParamSpec::new("avoid_ball", ValueType::Bool)
+            .default(Value::Bool(false))
+            .doc("walk round the ball too (a set play's taker, who may not touch it again)"),
+    )
 }
 
 fn walk_to(host: &mut AgentHost, ports: &Ports) -> Status {
     let target = own(ports.vec2("target"));
-    host.walk_to(target, None, ports.float("speed"), ports.float("tolerance"))
+    let avoid_ball = ports.bool("avoid_ball");
+    host.walk_to(
+        target,
+        None,
+        avoid_ball,
+        ports.float("speed"),
+        ports.float("tolerance"),
+    )
 }
 
 fn kick_to_ports() -> NodeSpec {
@@ -145,6 +163,9 @@ fn kick_to_ports() -> NodeSpec {
 }
 
 fn kick_to(host: &mut AgentHost, ports: &Ports) -> Status {
+    if host.taking_set_play() {
+        host.memory.set_play_kick_at.set(Some(host.world.time));
+    }
     host.kick_to(
         own(ports.vec2("target")),
         ports.float("distance"),
@@ -204,6 +225,7 @@ impl AgentHost<'_> {
         &mut self,
         target: Own,
         face: Option<Own>,
+        avoid_ball: bool,
         max_speed: f64,
         tolerance: f64,
     ) -> Status {
@@ -215,7 +237,7 @@ impl AgentHost<'_> {
         if me.distance(target) <= tolerance {
             return Status::Success;
         }
-        let obstacles = self.obstacles(None);
+        let obstacles = self.obstacles(avoid_ball.then(|| self.ball()));
         let avoidance = self.strategy.avoidance.unwrap_or_default();
         let field = self.strategy.field();
         let waypoint = self.memory.avoidance.next_waypoint(
@@ -290,6 +312,10 @@ impl AgentHost<'_> {
             .pose()
             .relative_angle(self.global_of(ball).bearing_to(self.global_of(target)));
         let to_target = ball.distance(target);
+        log::trace!(
+            "kick to {target:?}: ball {ball:?}, heading {:.1}°",
+            heading.to_degrees()
+        );
         self.intent.body = BodyIntent::Kick {
             // Straight from the camera when fresh: the kick places the foot relative to the ball.
             ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),

@@ -1,9 +1,9 @@
 //! World queries: where things are, in the team's own frame.
 
-use super::host::value;
+use super::host::{own, value};
 use super::{AgentHost, Native, Ports};
-use libero_behavior::{NodeSpec, Value, ValueType};
-use libero_world::Relation;
+use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType};
+use libero_world::{Own, Relation};
 
 pub(super) const NODES: &[Native] = &[
     Native::query(opponent_goal_ports, opponent_goal),
@@ -67,16 +67,39 @@ fn formation_position_ports() -> NodeSpec {
     NodeSpec::query(
         "formation_position",
         ValueType::Vec2,
-        "This player's formation position for the situation and ball (m, own frame).",
+        "This player's formation position for the situation and ball (m, own frame); with `clear_of_ball`, a position inside that circle round the ball is moved out to its edge (the referee relocates defenders within the centre-circle radius of an opponent set play's ball).",
+    )
+    .param(
+        ParamSpec::new("clear_of_ball", ValueType::Float)
+            .unit("m")
+            .range(0.0, 20.0)
+            .default(Value::Float(0.0))
+            .doc("keep at least this far from the ball; 0 = no limit"),
     )
 }
 
-fn formation_position(host: &AgentHost, _: &Ports) -> Value {
+fn formation_position(host: &AgentHost, ports: &Ports) -> Value {
     let position = host
         .strategy
         .position(host.situation(), host.unum(), value(host.ball()))
         .unwrap_or_else(|| value(host.me()));
-    Value::Vec2(position)
+    let clear = ports.float("clear_of_ball");
+    Value::Vec2(value(clear_of(own(position), host.ball(), clear)))
+}
+
+/// `p` moved radially out of the circle of `radius` round `ball` (from the ball's side away
+/// from `p`; straight back towards the own goal when `p` is the ball itself).
+pub(crate) fn clear_of(p: Own, ball: Own, radius: f64) -> Own {
+    let away = p - ball;
+    if radius <= 0.0 || away.norm() >= radius {
+        return p;
+    }
+    let direction = if away.norm() > 1e-6 {
+        away.scaled(1.0 / away.norm())
+    } else {
+        Own::new(-1.0, 0.0)
+    };
+    ball + direction.scaled(radius)
 }
 
 fn play_time_ports() -> NodeSpec {

@@ -186,11 +186,9 @@ fn play_half(
     ];
     std::thread::sleep(Duration::from_millis(500));
     let monitor = server.monitor();
-    monitor.send(if half == 1 {
-        "(kickOff Left)"
-    } else {
-        "(kickOff Right)"
-    })?;
+    // The left team kicks off each half: the teams change sides, so each half's kick-off goes
+    // to the other team (and `first_kick_off: "Left"` in team.ron holds for both).
+    monitor.kick_off_left()?;
     println!(
         "half {half}: {} (left) v {} (right), kick-off",
         names[0], names[1]
