@@ -176,6 +176,7 @@ impl Player {
             }
         }
         self.intent = self.decider.decide(&self.world);
+        self.tell_teammates();
         if self.share_trace {
             if let Ok(mut trace) = self.stats.trace.lock() {
                 *trace = self.decider.trace_line();
@@ -227,6 +228,22 @@ impl Player {
         );
         self.writer.frame_into(out);
         AgentStats::bump(&self.stats.replies);
+    }
+
+    /// In this player's turn on the channel (and unless the decision said something of its
+    /// own), tell the team what this player knows: its position, whether it is down, the ball.
+    fn tell_teammates(&mut self) {
+        let world = &self.world;
+        let server = self.model.server;
+        if self.intent.say.is_some()
+            || world.game.side.is_none()
+            || !world.me.localized
+            || !libero_world::team_message::may_speak(server, world.time, world.game.unum)
+        {
+            return;
+        }
+        let message = world.team_message(None);
+        self.intent.say = Some(message.encode(&world.game.team, &world.field, server));
     }
 
     fn count_missed(&mut self, before: f64) {

@@ -36,6 +36,9 @@ pub struct BallEstimate {
     pub predicted_stop: [f64; 2],
     /// Simulation time it was last seen (`None`: never).
     pub last_seen_time: Option<f64>,
+    /// Time of a teammate's sighting we took because it was newer than our own (`None`:
+    /// none since our own).
+    pub heard_time: Option<f64>,
     /// Seen in the current cycle's vision.
     pub seen_now: bool,
     /// Still sliding after a launch (decelerates faster than rolling).
@@ -70,6 +73,8 @@ struct Tracker {
     /// the estimate is published at rest at `window_mean`.
     motion_supported: bool,
     window_mean: Vector2<f64>,
+    /// The track holds a teammate's sighting only: the next own sighting starts afresh.
+    heard_track: bool,
 }
 
 impl BallEstimate {
@@ -81,6 +86,7 @@ impl BallEstimate {
             acceleration: [0.0; 2],
             predicted_stop: [0.0; 2],
             last_seen_time: None,
+            heard_time: None,
             seen_now: false,
             sliding: false,
             drag_factor: 1.0,
@@ -100,6 +106,7 @@ impl BallEstimate {
                 rest_position: None,
                 motion_supported: false,
                 window_mean: Vector2::zeros(),
+                heard_track: false,
             },
         }
     }
@@ -110,8 +117,44 @@ impl BallEstimate {
     }
 
     /// Seconds since the ball was last seen (infinite if never).
+    /// Own sightings and teammates' newer ones alike.
     pub fn age(&self, now: f64) -> f64 {
-        self.last_seen_time.map_or(f64::INFINITY, |t| now - t)
+        let latest = match (self.last_seen_time, self.heard_time) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        latest.map_or(f64::INFINITY, |t| now - t)
+    }
+
+    /// A teammate saw the ball at `position` at `sighting_time` (communication). Taken when it
+    /// is newer than our own sighting by more than `newer_by_s`, as a ball at rest there (the
+    /// message carries no velocity); heard and seen points never share a fit, so the next own
+    /// sighting starts a fresh track. Returns whether it was taken.
+    pub fn hear(
+        &mut self,
+        now: f64,
+        sighting_time: f64,
+        position: [f64; 2],
+        newer_by_s: f64,
+    ) -> bool {
+        if !position.iter().all(|c| c.is_finite()) || !sighting_time.is_finite() {
+            return false;
+        }
+        let own = self.last_seen_time.unwrap_or(f64::NEG_INFINITY);
+        let heard = self.heard_time.unwrap_or(f64::NEG_INFINITY);
+        if sighting_time <= own + newer_by_s || sighting_time <= heard || sighting_time > now {
+            return false;
+        }
+        let t = &mut self.tracker;
+        t.reset_track();
+        t.launch = None;
+        t.observations
+            .push_back((sighting_time, Vector3::new(position[0], position[1], 0.11)));
+        t.fit(sighting_time);
+        t.heard_track = true;
+        self.heard_time = Some(sighting_time);
+        self.publish(now);
+        true
     }
 
     /// One cycle: `seen` is the ball's field position from this cycle's vision, if any.
@@ -127,7 +170,13 @@ impl BallEstimate {
     }
 
     fn observe(&mut self, time: f64, p: Vector3<f64>) {
+        self.heard_time = None;
         let t = &mut self.tracker;
+        if t.heard_track {
+            t.reset_track();
+            t.observations.clear();
+            t.heard_track = false;
+        }
         let last = t.observations.back().copied();
         let predicted = last.map(|_| t.predict_from_fit(time - t.fit_time));
         // A ball at rest is watched more closely: its first movement dates the launch.
@@ -183,13 +232,8 @@ impl BallEstimate {
                 t.launch = None;
                 carried.clear();
             }
-            t.observations.clear();
+            t.reset_track();
             t.observations.extend(carried.into_iter().rev());
-            t.launch_speed = None;
-            t.launched = None;
-            t.rest_position = None;
-            t.rolling_start = None;
-            t.learned_from_track = false;
         }
         if t.observations.len() == TRACK_CAPACITY {
             t.observations.pop_front();
@@ -368,6 +412,16 @@ impl Tracker {
     }
 
     /// Least-squares fit of position, velocity and acceleration at `now` over the window.
+    /// Forget the current track (its points and what was fitted from them).
+    fn reset_track(&mut self) {
+        self.observations.clear();
+        self.launch_speed = None;
+        self.launched = None;
+        self.rest_position = None;
+        self.rolling_start = None;
+        self.learned_from_track = false;
+    }
+
     fn fit(&mut self, now: f64) {
         let window = self.params.fit_window_s + 1e-6;
         let points: Vec<(f64, Vector2<f64>)> = self

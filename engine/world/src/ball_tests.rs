@@ -145,3 +145,38 @@ fn a_ball_at_rest_seen_with_jitter_stays_put_when_out_of_sight() {
     let walking = worst_drift_of_a_jittered_ball_at_rest(0.04, 200);
     assert!(walking < 0.25, "±4 cm: drifted {walking:.2} m");
 }
+
+#[test]
+fn a_heard_sighting_is_taken_only_when_newer_and_never_fitted_with_own_points() {
+    let params = WorldParams::builtin().ball;
+    let mut ball = BallEstimate::new(&params);
+    // Seen at rest at (1, 1) until t = 10.
+    for i in 0..25 {
+        ball.update(9.0 + i as f64 * 0.04, Some(Vector3::new(1.0, 1.0, 0.11)));
+    }
+    // A teammate saw it at (4, -2) at t = 10.1: not newer than ours by the margin.
+    assert!(!ball.hear(10.2, 10.1, [4.0, -2.0], 0.3));
+    assert_eq!(ball.position, [1.0, 1.0]);
+    for t in [10.5, 11.0] {
+        ball.update(t, None);
+    }
+    // At t = 11 it saw it at (4, -2) at t = 10.9: newer, taken as a ball at rest there.
+    assert!(ball.hear(11.0, 10.9, [4.0, -2.0], 0.3));
+    assert_eq!(ball.position, [4.0, -2.0]);
+    assert_eq!(ball.velocity, [0.0, 0.0]);
+    assert!((ball.age(11.0) - 0.1).abs() < 1e-9);
+    // An older report changes nothing; neither does nonsense.
+    assert!(!ball.hear(11.1, 10.5, [0.0, 0.0], 0.3));
+    assert!(!ball.hear(11.1, f64::NAN, [0.0, 0.0], 0.3));
+    assert!(!ball.hear(11.1, 11.05, [f64::INFINITY, 0.0], 0.3));
+    ball.update(11.1, None);
+    assert_eq!(ball.position, [4.0, -2.0]);
+    // Our own next sighting, 0.3 m off the heard point, starts a fresh track: no velocity is
+    // fitted between the heard point and the seen one.
+    for i in 0..10 {
+        ball.update(11.2 + i as f64 * 0.04, Some(Vector3::new(4.3, -2.0, 0.11)));
+        assert!(ball.velocity[0].abs() < 1e-9, "{:?}", ball.velocity);
+    }
+    assert_eq!(ball.heard_time, None);
+    assert!((ball.position[0] - 4.3).abs() < 1e-6);
+}

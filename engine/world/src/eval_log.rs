@@ -32,6 +32,7 @@ struct Record<'a> {
     me: &'a SelfEstimate,
     ball: Option<&'a BallEstimate>,
     players: &'a [PlayerEstimate],
+    heard: &'a crate::HeardNews,
     truth: Option<Truth>,
     /// The decision trace of the cycle (active leaves and their statuses), when requested.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -74,7 +75,9 @@ impl<W: Write> EvalLogger<W> {
             side: world.game.side,
             play_mode: &world.game.play_mode_name,
             me: &world.me,
-            ball: world.ball.last_seen_time.map(|_| &world.ball),
+            ball: (world.ball.last_seen_time.is_some() || world.ball.heard_time.is_some())
+                .then_some(&world.ball),
+            heard: &world.heard,
             players: &world.players.known,
             truth: world
                 .truth_pose()

@@ -29,6 +29,7 @@ pub mod geometry;
 pub mod localization;
 pub mod params;
 pub mod players;
+pub mod team_message;
 
 pub use ball::BallEstimate;
 pub use body::{BodyState, Posture};
@@ -41,6 +42,42 @@ pub use players::{PlayerEstimate, Players, Relation};
 use libero_model::kinematics::Kinematics;
 use libero_model::{FieldGeometry, RobotModel, ServerKind};
 use libero_protocol::Percept;
+
+/// A message said in answer to percept k is heard with percept k + 2 (both servers).
+const HEARD_LATENCY_S: f64 = 0.04;
+/// A teammate's ball sighting replaces ours only when newer by this much [s] (ours also knows
+/// where the ball went since).
+const HEARD_BALL_NEWER_BY_S: f64 = 0.3;
+/// A player tells where it saw the ball only within this long of the sighting [s].
+const TOLD_BALL_WITHIN_S: f64 = 3.0;
+/// Claims older than this are forgotten [s].
+const CLAIM_MEMORY_S: f64 = 2.0;
+
+/// What teammates told us: each one's latest claim to the ball, and message counts.
+#[derive(Debug, Clone, Default, serde::Serialize)]
+pub struct HeardNews {
+    /// Per teammate: (uniform number, its time to reach the ball [s], when it said so).
+    pub claims: Vec<(u32, Option<f64>, f64)>,
+    /// Messages taken and rejected (malformed, foreign, garbage).
+    pub taken: u64,
+    pub rejected: u64,
+}
+
+impl HeardNews {
+    fn claim(&mut self, unum: u32, time_to_ball_s: Option<f64>, at: f64) {
+        self.claims
+            .retain(|(u, _, t)| *u != unum && at - t <= CLAIM_MEMORY_S);
+        self.claims.push((unum, time_to_ball_s, at));
+    }
+
+    /// Teammates' claims said within `CLAIM_MEMORY_S` of `now`.
+    pub fn recent_claims(&self, now: f64) -> impl Iterator<Item = (u32, Option<f64>)> + '_ {
+        self.claims
+            .iter()
+            .filter(move |(_, _, t)| now - t <= CLAIM_MEMORY_S)
+            .map(|(u, c, _)| (*u, *c))
+    }
+}
 use localization::Localizer;
 use std::sync::Arc;
 
@@ -73,6 +110,8 @@ pub struct World {
     /// The ball as last seen, in the robot frame (x forwards, y left) at that moment, and the
     /// time [s]. Taken straight from the camera, so errors of the self-estimate cancel.
     pub ball_seen_relative: Option<(f64, [f64; 2])>,
+    /// What teammates told us lately.
+    pub heard: HeardNews,
     pub field: Arc<FieldGeometry>,
     pub params: Arc<WorldParams>,
     localizer: Localizer,
@@ -114,6 +153,7 @@ impl World {
             players: Players::default(),
             truth: GroundTruth::default(),
             ball_seen_relative: None,
+            heard: HeardNews::default(),
             field: Arc::new(field),
             params: Arc::new(params),
             localizer,
@@ -143,6 +183,7 @@ impl World {
         );
         self.me = self.localizer.estimate().clone();
         self.update_ball_and_players(percept);
+        self.hear_teammates(&percept.heard);
         self.truth = GroundTruth {
             torso_position: percept.truth_position,
             torso_orientation: percept.truth_orientation,
@@ -188,6 +229,59 @@ impl World {
             );
         }
         self.players.forget_old(&self.params.players, self.time);
+    }
+
+    /// Teammates' messages: their positions and falls, a ball sighting newer than ours, their
+    /// claims to the ball. Anything that fails the team check is dropped (and counted).
+    fn hear_teammates(&mut self, heard: &[libero_protocol::percept::Heard<'_>]) {
+        use libero_protocol::percept::HeardFrom;
+        for h in heard {
+            if h.from == HeardFrom::Myself || h.team.is_some_and(|t| t != self.game.team) {
+                continue;
+            }
+            let message =
+                match team_message::TeamMessage::decode(h.message, &self.game.team, &self.field) {
+                    Ok(m) if m.unum != 0 && u32::from(m.unum) != self.game.unum => m,
+                    Ok(_) => continue,
+                    Err(_) => {
+                        self.heard.rejected += 1;
+                        continue;
+                    }
+                };
+            self.heard.taken += 1;
+            let said_at = self.time - HEARD_LATENCY_S;
+            let unum = u32::from(message.unum);
+            self.players.heard(
+                Relation::Teammate,
+                unum,
+                message.position,
+                Some(message.fallen),
+                said_at,
+            );
+            if let Some((ball, age)) = message.ball {
+                self.ball
+                    .hear(self.time, said_at - age, ball, HEARD_BALL_NEWER_BY_S);
+            }
+            self.heard.claim(unum, message.time_to_ball_s, said_at);
+        }
+    }
+
+    /// The message this player says when it has the channel: its own estimates only (what it
+    /// heard is not passed on, so stale news does not circulate).
+    pub fn team_message(&self, time_to_ball_s: Option<f64>) -> team_message::TeamMessage {
+        let ball = self
+            .ball
+            .last_seen_time
+            .map(|t| self.time - t)
+            .filter(|age| *age <= TOLD_BALL_WITHIN_S)
+            .map(|age| (self.ball.position, age));
+        team_message::TeamMessage {
+            unum: u8::try_from(self.game.unum).unwrap_or(0),
+            position: self.me.position,
+            fallen: self.body.posture != Posture::Upright,
+            ball,
+            time_to_ball_s,
+        }
     }
 
     /// Which way round our team plays: global ↔ own frame.

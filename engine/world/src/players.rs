@@ -109,7 +109,14 @@ impl Players {
     }
 
     /// A teammate's report (communication): only replaces older information.
-    pub fn heard(&mut self, relation: Relation, unum: u32, position: [f64; 2], time: f64) {
+    pub fn heard(
+        &mut self,
+        relation: Relation,
+        unum: u32,
+        position: [f64; 2],
+        fallen: Option<bool>,
+        time: f64,
+    ) {
         if !position.iter().all(|c| c.is_finite()) {
             return;
         }
@@ -124,7 +131,7 @@ impl Players {
                 position,
                 heading_deg: previous.as_ref().and_then(|p| p.heading_deg),
                 head_height: None,
-                fallen: previous.is_some_and(|p| p.fallen),
+                fallen: fallen.unwrap_or_else(|| previous.is_some_and(|p| p.fallen)),
                 last_update_time: time,
                 source: Source::Heard,
             });
@@ -198,12 +205,12 @@ mod tests {
         assert!(p.fallen && p.heading_deg.is_none());
         assert_eq!(players.known.len(), 1);
         // Older hearsay does not overwrite vision; newer does.
-        players.heard(Relation::Opponent, 4, [0.0, 0.0], 10.5);
+        players.heard(Relation::Opponent, 4, [0.0, 0.0], None, 10.5);
         assert_eq!(
             players.get(Relation::Opponent, 4).unwrap().source,
             Source::Vision
         );
-        players.heard(Relation::Opponent, 4, [0.0, 0.0], 12.0);
+        players.heard(Relation::Opponent, 4, [0.0, 0.0], None, 12.0);
         assert_eq!(
             players.get(Relation::Opponent, 4).unwrap().source,
             Source::Heard
