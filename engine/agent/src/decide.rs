@@ -35,7 +35,7 @@ impl Decider for StandAndBeam {
                 period_s: None,
             },
             beam: world.game.play_mode.allows_beam().then_some(self.beam_pose),
-            say: None,
+            ..Intent::default()
         }
     }
 }
@@ -131,6 +131,7 @@ impl Decider for TreeDecider {
                 &mut intent,
             );
             runner.tick(&mut host, &library);
+            intent.time_to_ball_s = self.memory.time_to_ball.take();
         }
         if log::log_enabled!(log::Level::Debug) {
             let path = self.trace_line();

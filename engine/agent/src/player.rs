@@ -242,7 +242,7 @@ impl Player {
         {
             return;
         }
-        let message = world.team_message(None);
+        let message = world.team_message(self.intent.time_to_ball_s);
         self.intent.say = Some(message.encode(&world.game.team, &world.field, server));
     }
 

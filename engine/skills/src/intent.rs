@@ -75,4 +75,7 @@ pub struct Intent {
     pub beam: Option<[f64; 3]>,
     /// A message to broadcast.
     pub say: Option<Vec<u8>>,
+    /// The decision's claim to the ball: this player's predicted time to reach it [s], which
+    /// it tells its teammates (`None`: not claiming).
+    pub time_to_ball_s: Option<f64>,
 }

@@ -11,6 +11,7 @@ pub mod avoidance;
 pub mod files;
 pub mod goalkeeper;
 pub mod natives;
+pub mod roles;
 pub mod shot;
 
 pub use files::{

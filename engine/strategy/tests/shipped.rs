@@ -129,7 +129,7 @@ fn field_player_beams_to_its_kick_off_position_before_kick_off() {
 }
 
 #[test]
-fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_dribbles_towards_it() {
+fn striker_shoots_near_the_goal_dribbles_just_beyond_a_shot_and_kicks_long_from_far() {
     // 8 m out in front of an empty goal: the shot's chance clears the threshold.
     let w = world(
         5,
@@ -151,11 +151,31 @@ fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_dribbles_towards_it(
     assert!(crossing_y.abs() < 1.83, "aims at y = {crossing_y:.2}");
     assert!(distance_m > 7.0, "a long kick: {distance_m}");
 
-    // 30 m out the shot has no chance: the ball, 1 m ahead, is walked on towards the goal.
+    // 30 m out: no shot, and a long kick towards the goal covers the ground faster than a
+    // dribble.
     let w = world(
         5,
         Own::new(-4.0, 0.0),
         Own::new(-3.0, 0.0),
+        PlayMode::PlayOn,
+    );
+    let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
+    let BodyIntent::Kick {
+        direction_deg,
+        distance_m,
+        ..
+    } = intent.body
+    else {
+        panic!("no kick: {:?}", intent.body)
+    };
+    assert!(distance_m > 20.0, "towards the goal: {distance_m}");
+    assert!(direction_deg.abs() < 15.0, "{direction_deg}");
+
+    // 14.5 m out, just beyond a shot: the ball, 1 m ahead, is walked on towards the goal.
+    let w = world(
+        5,
+        Own::new(12.0, 0.0),
+        Own::new(13.0, 0.0),
         PlayMode::PlayOn,
     );
     let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
@@ -167,7 +187,7 @@ fn striker_near_the_goal_shoots_into_the_mouth_and_far_away_dribbles_towards_it(
         panic!("no dribble: {:?}", intent.body)
     };
     let at = own_of(&w, ball);
-    assert!((at.x + 3.0).abs() < 0.05 && at.y.abs() < 0.05, "{at:?}");
+    assert!((at.x - 13.0).abs() < 0.05 && at.y.abs() < 0.05, "{at:?}");
     // The robot faces their goal, straight beyond the ball.
     assert!(direction_deg.abs() < 1.0, "{direction_deg}");
 }

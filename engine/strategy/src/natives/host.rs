@@ -16,6 +16,13 @@ pub struct PlayerMemory {
     /// When this player last asked for a kick while taking an own set play: until another
     /// robot has been at the ball it may not touch it again (`MayPlayBall`).
     pub set_play_kick_at: std::cell::Cell<Option<f64>>,
+    /// Who holds which formation slot (kept between cycles for the hysteresis).
+    pub roles: std::cell::RefCell<crate::roles::RoleAssignment>,
+    /// This player's predicted time to the ball, when a tree asked (`am_ball_winner`): what it
+    /// tells its teammates.
+    pub time_to_ball: std::cell::Cell<Option<f64>>,
+    /// Whether it was the ball winner last time it asked.
+    pub ball_winner: std::cell::Cell<bool>,
 }
 
 /// One tick's view of the world, and the intent it fills in.

@@ -16,6 +16,7 @@ mod motion;
 mod queries;
 mod set_plays;
 mod shooting;
+mod team_play;
 
 pub use host::{AgentHost, PlayerMemory};
 
@@ -82,6 +83,7 @@ pub fn catalogue() -> impl Iterator<Item = &'static Native> {
         keeper::NODES,
         shooting::NODES,
         set_plays::NODES,
+        team_play::NODES,
     ]
     .into_iter()
     .flatten()

@@ -13,7 +13,30 @@ pub(super) const NODES: &[Native] = &[
     Native::query(formation_position_ports, formation_position),
     Native::query(play_time_ports, play_time),
     Native::query(am_closest_to_ball_ports, am_closest_to_ball),
+    Native::query(distance_ports, distance),
 ];
+
+fn distance_ports() -> NodeSpec {
+    NodeSpec::query(
+        "distance",
+        ValueType::Float,
+        "Distance between two field points (m), e.g. from the ball to the opponent goal.",
+    )
+    .param(
+        ParamSpec::new("from", ValueType::Vec2)
+            .unit("m")
+            .doc("a point, own frame"),
+    )
+    .param(
+        ParamSpec::new("to", ValueType::Vec2)
+            .unit("m")
+            .doc("another point, own frame"),
+    )
+}
+
+fn distance(_: &AgentHost, ports: &Ports) -> Value {
+    Value::Float(own(ports.vec2("from")).distance(own(ports.vec2("to"))))
+}
 
 fn opponent_goal_ports() -> NodeSpec {
     NodeSpec::query(
@@ -67,7 +90,7 @@ fn formation_position_ports() -> NodeSpec {
     NodeSpec::query(
         "formation_position",
         ValueType::Vec2,
-        "This player's formation position for the situation and ball (m, own frame); with `clear_of_ball`, a position inside that circle round the ball is moved out to its edge (the referee relocates defenders within the centre-circle radius of an opponent set play's ball).",
+        "This player's formation position for the situation and ball (m, own frame): in play, that of the slot the role assignment gives it; with `clear_of_ball`, a position inside that circle round the ball is moved out to its edge (the referee relocates defenders within the centre-circle radius of an opponent set play's ball).",
     )
     .param(
         ParamSpec::new("clear_of_ball", ValueType::Float)
@@ -81,7 +104,7 @@ fn formation_position_ports() -> NodeSpec {
 fn formation_position(host: &AgentHost, ports: &Ports) -> Value {
     let position = host
         .strategy
-        .position(host.situation(), host.unum(), value(host.ball()))
+        .position(host.situation(), host.slot(), value(host.ball()))
         .unwrap_or_else(|| value(host.me()));
     let clear = ports.float("clear_of_ball");
     Value::Vec2(value(clear_of(own(position), host.ball(), clear)))

@@ -32,7 +32,7 @@ fn has_role_ports() -> NodeSpec {
 }
 
 fn has_role(host: &AgentHost, ports: &Ports) -> bool {
-    let unum = host.unum();
+    let unum = host.slot();
     host.strategy
         .formation_for(host.situation())
         .and_then(|f| f.roles.iter().find(|r| r.unum == unum))

@@ -357,3 +357,105 @@ mod search_ball {
         assert_eq!(tick(&world).0, Status::Success);
     }
 }
+
+/// One evaluation of the query `name` with `args` on the shipped files, with `memory` kept
+/// between calls.
+fn run_query(
+    world: &libero_world::World,
+    name: &str,
+    args: &[Value],
+    memory: &mut PlayerMemory,
+) -> Value {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let natives = Natives::new();
+    let skills = libero_skills::SkillStatus::default();
+    let mut intent = libero_skills::Intent::default();
+    let host = AgentHost::new(
+        world,
+        crate::strategy_of(&library),
+        &natives,
+        &skills,
+        memory,
+        &mut intent,
+    );
+    let id = vocabulary()
+        .find(libero_behavior::NativeKind::Query, name)
+        .unwrap();
+    host.query(id, Args(args))
+}
+
+mod team_play {
+    use super::*;
+    use libero_world::{PlayMode, Relation, Side, World};
+
+    /// Player 2 of the left team in play at `me`, facing +x, the ball at `ball`.
+    fn world(me: [f64; 2], ball: [f64; 2]) -> World {
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let mut world = World::new(&model, "Libero", 2);
+        world.game.side = Some(Side::Left);
+        world.game.play_mode = PlayMode::PlayOn;
+        world.time = 20.0;
+        world.me.localized = true;
+        world.me.position = me;
+        world.ball.position = ball;
+        world.ball.last_seen_time = Some(20.0);
+        world
+    }
+
+    fn winner(world: &World, memory: &mut PlayerMemory) -> bool {
+        let args = [
+            Value::Float(0.5),
+            Value::Float(60.0),
+            Value::Float(5.0),
+            Value::Float(0.5),
+        ];
+        run_query(world, "am_ball_winner", &args, memory).as_bool()
+    }
+
+    #[test]
+    fn the_ball_winner_is_whoever_gets_there_first_not_whoever_is_nearest() {
+        let mut w = world([8.0, 0.0], [10.0, 0.0]); // 2 m ahead: 4 s
+        let mut memory = PlayerMemory::default();
+        assert!(winner(&w, &mut memory), "alone");
+        assert_eq!(memory.time_to_ball.get(), Some(4.0));
+        // A teammate 1 m from the ball (2 s): it goes.
+        w.players
+            .heard(Relation::Teammate, 3, [11.0, 0.0], Some(false), 20.0);
+        let mut memory = PlayerMemory::default();
+        assert!(!winner(&w, &mut memory));
+        // The same teammate lying down (2 s + 5 s to get up): we go.
+        w.players
+            .heard(Relation::Teammate, 3, [11.0, 0.0], Some(true), 20.01);
+        assert!(winner(&w, &mut memory));
+        // Our own back to the ball costs the turn: facing away (180° at 60°/s = 3 s) we are
+        // slower (7 s) than the lying teammate (7 s) by nothing, but winners keep the ball
+        // within the hysteresis.
+        w.me.yaw_deg = 180.0;
+        assert!(winner(&w, &mut memory));
+        let mut fresh = PlayerMemory::default();
+        assert!(winner(&w, &mut fresh), "a tie goes to us");
+        // The goalkeeper's position never counts.
+        w.players
+            .heard(Relation::Teammate, 1, [10.0, 0.2], Some(false), 20.02);
+        assert!(winner(&w, &mut PlayerMemory::default()));
+    }
+
+    #[test]
+    fn in_play_a_player_takes_the_formation_slot_the_assignment_gives_it() {
+        // The ball at the centre: in `attack`, slot 2 is at (-12, 5) and slot 3 at (-12, -5).
+        let mut w = world([-12.0, -5.0], [0.0, 0.0]);
+        w.players
+            .heard(Relation::Teammate, 3, [-12.0, 5.0], Some(false), 20.0);
+        let mut memory = PlayerMemory::default();
+        let at = run_query(&w, "formation_position", &[Value::Float(0.0)], &mut memory).as_vec2();
+        assert!(
+            (at.x + 12.0).abs() < 0.01 && (at.y + 5.0).abs() < 0.01,
+            "{at:?}"
+        );
+        // Before kick-off every player keeps its own.
+        w.game.play_mode = PlayMode::BeforeKickOff;
+        let at = run_query(&w, "formation_position", &[Value::Float(0.0)], &mut memory).as_vec2();
+        assert!(at.y > 0.0, "{at:?}");
+    }
+}

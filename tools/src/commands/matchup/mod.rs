@@ -326,6 +326,9 @@ fn print_summary(report: &MatchReport) {
             if kick_offs.is_empty() { "-".to_string() } else { kick_offs.join(" ") },
             f.missed_cycles
         );
+        for (unum, at, down) in &f.slow_falls {
+            println!("    {name} {unum} fell at {at:.1} s and lay {down:.1} s");
+        }
     }
 }
 

@@ -69,6 +69,8 @@ pub struct Figures {
     pub falls: u32,
     /// Falls not followed by standing again within `STAND_WITHIN_S`.
     pub falls_slow_to_stand: u32,
+    /// Those falls: (uniform number, play time of the fall [s], time down [s]).
+    pub slow_falls: Vec<(u32, f64, f64)>,
     /// The longest time any robot lay down [s].
     pub longest_down_s: f64,
     /// The largest share of the play time any one robot spent down.
@@ -99,6 +101,7 @@ impl Figures {
         self.passes_completed += other.passes_completed;
         self.falls += other.falls;
         self.falls_slow_to_stand += other.falls_slow_to_stand;
+        self.slow_falls.extend_from_slice(&other.slow_falls);
         self.longest_down_s = self.longest_down_s.max(other.longest_down_s);
         self.most_down_share = self.most_down_share.max(other.most_down_share);
         self.relocations += other.relocations;
@@ -238,6 +241,7 @@ impl Observer {
                     track.down_since = None;
                     if down_for > STAND_WITHIN_S {
                         figures.falls_slow_to_stand += 1;
+                        figures.slow_falls.push((robot.unum, since, down_for));
                     }
                 }
                 figures.longest_down_s = figures.longest_down_s.max(down_for);
@@ -361,11 +365,12 @@ impl Observer {
 
     /// The half's figures, `[left, right]`, and its play-on time [s].
     pub fn finish(mut self, play_time_s: f64) -> ([Figures; 2], f64) {
-        for ((left, _), track) in &self.robots {
+        for ((left, unum), track) in &self.robots {
             let figures = &mut self.sides[index(*left)];
             if let (Some(since), Some(last)) = (track.down_since, &self.last) {
                 if last.time - since > STAND_WITHIN_S {
                     figures.falls_slow_to_stand += 1;
+                    figures.slow_falls.push((*unum, since, last.time - since));
                 }
             }
             if play_time_s > 0.0 {

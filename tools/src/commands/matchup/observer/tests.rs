@@ -89,6 +89,9 @@ fn falls_count_with_how_long_the_robot_lay() {
     let [left, _] = observer.finish(30.0).0;
     assert_eq!(left.falls, 2);
     assert_eq!(left.falls_slow_to_stand, 1);
+    assert_eq!(left.slow_falls.len(), 1);
+    assert_eq!(left.slow_falls[0].0, 2);
+    assert!((left.slow_falls[0].1 - 10.0).abs() < 0.03, "{left:?}");
     assert!((left.longest_down_s - 10.0).abs() < 0.1, "{left:?}");
     assert!(
         (left.most_down_share - 13.0 / 30.0).abs() < 0.01,

@@ -1,0 +1,166 @@
+//! Team play: who holds which formation role (the optimal assignment of `roles`) and who goes
+//! for the ball (the predicted time to reach it, this player's against its teammates' claims).
+
+use super::{AgentHost, Native, Ports};
+use crate::roles::{Candidate, Slot};
+use crate::Situation;
+use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType};
+use libero_world::{Own, Relation};
+
+pub(super) const NODES: &[Native] = &[Native::query(am_ball_winner_ports, am_ball_winner)];
+
+/// Teammates with no news for longer than this are taken to be at their own slot [s].
+const TEAMMATE_NEWS_S: f64 = 4.0;
+/// Saved summed squared distance [m²] an assignment must offer to replace the one held.
+const ROLE_HYSTERESIS_M2: f64 = 4.0;
+/// A teammate's claim (or sighting) counts this long [s].
+const CLAIM_FRESH_S: f64 = 1.0;
+
+fn am_ball_winner_ports() -> NodeSpec {
+    NodeSpec::query(
+        "am_ball_winner",
+        ValueType::Bool,
+        "True when this player reaches the ball first of the field players: its predicted time (distance at `walk_speed`, the turn to face the ball at `turn_rate`, `get_up` when lying) against each teammate's claim heard in the last second, or the same prediction from where it was seen. Once winner, a teammate must be `hysteresis` faster to take over. This player's time is what it tells its teammates.",
+    )
+    .param(
+        ParamSpec::new("walk_speed", ValueType::Float)
+            .unit("m/s")
+            .range(0.05, 3.0)
+            .default(Value::Float(0.5))
+            .doc("walking speed of the prediction"),
+    )
+    .param(
+        ParamSpec::new("turn_rate", ValueType::Float)
+            .unit("deg/s")
+            .range(1.0, 720.0)
+            .default(Value::Float(60.0))
+            .doc("turning speed of the prediction"),
+    )
+    .param(
+        ParamSpec::new("get_up", ValueType::Float)
+            .unit("s")
+            .range(0.0, 30.0)
+            .default(Value::Float(5.0))
+            .doc("added for a robot lying down"),
+    )
+    .param(
+        ParamSpec::new("hysteresis", ValueType::Float)
+            .unit("s")
+            .range(0.0, 10.0)
+            .default(Value::Float(0.5))
+            .doc("how much faster a teammate must be to take the ball over"),
+    )
+}
+
+/// The prediction's numbers.
+struct Pace {
+    walk_speed: f64,
+    turn_rate: f64,
+    get_up: f64,
+}
+
+impl Pace {
+    fn time(&self, from: Own, heading_deg: Option<f64>, fallen: bool, ball: Own) -> f64 {
+        let walk = from.distance(ball) / self.walk_speed;
+        let turn = heading_deg.map_or(0.0, |h| {
+            let to_ball = from.bearing_to(ball).to_degrees();
+            libero_world::geometry::wrap_deg(to_ball - h).abs() / self.turn_rate
+        });
+        walk + turn + if fallen { self.get_up } else { 0.0 }
+    }
+}
+
+fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
+    let pace = Pace {
+        walk_speed: ports.float("walk_speed"),
+        turn_rate: ports.float("turn_rate"),
+        get_up: ports.float("get_up"),
+    };
+    let world = host.world;
+    let ball = host.ball();
+    let fallen = world.body.posture != libero_world::Posture::Upright;
+    let mine = pace.time(
+        host.me(),
+        Some(world.yaw_to_own_frame(world.me.yaw_deg)),
+        fallen,
+        ball,
+    );
+    host.memory.time_to_ball.set(Some(mine));
+    let now = world.time;
+    let claims: Vec<(u32, Option<f64>)> = world.heard.recent_claims(now).collect();
+    let others = world
+        .players
+        .of(Relation::Teammate)
+        .filter(|p| p.unum != 1 && p.unum != world.game.unum && p.age(now) <= CLAIM_FRESH_S)
+        .map(|p| {
+            let heard = claims.iter().find(|(u, _)| *u == p.unum).and_then(|c| c.1);
+            heard.unwrap_or_else(|| {
+                pace.time(
+                    host.own_of(p.position),
+                    p.heading_deg.map(|h| world.yaw_to_own_frame(h)),
+                    p.fallen,
+                    ball,
+                )
+            })
+        })
+        .fold(f64::INFINITY, f64::min);
+    let was = host.memory.ball_winner.get();
+    let margin = if was { ports.float("hysteresis") } else { 0.0 };
+    let winner = mine <= others + margin;
+    host.memory.ball_winner.set(winner);
+    Value::Bool(winner)
+}
+
+impl AgentHost<'_> {
+    /// The formation slot (by its default uniform number) this player holds: in play, the
+    /// optimal assignment of the field positions to the field players; in kick-offs and set
+    /// plays, and for the goalkeeper, its own.
+    pub(crate) fn slot(&self) -> u8 {
+        let unum = self.unum();
+        let situation = self.situation();
+        let in_play = matches!(
+            situation,
+            Situation::PlayOnAttack | Situation::PlayOnDefence
+        );
+        if unum == 1 || !in_play {
+            return unum;
+        }
+        let Some(formation) = self.strategy.formation_for(situation) else {
+            return unum;
+        };
+        let ball = super::host::value(self.ball());
+        let slots: Vec<Slot> = formation
+            .roles
+            .iter()
+            .filter(|r| r.unum != 1)
+            .filter_map(|r| {
+                Some(Slot {
+                    default_unum: r.unum,
+                    at: super::host::own(formation.position(r.unum, ball)?),
+                })
+            })
+            .collect();
+        let world = self.world;
+        let candidates: Vec<Candidate> = slots
+            .iter()
+            .map(|s| {
+                let at = if s.default_unum == unum {
+                    self.me()
+                } else {
+                    world
+                        .players
+                        .get(Relation::Teammate, u32::from(s.default_unum))
+                        .filter(|p| p.age(world.time) <= TEAMMATE_NEWS_S)
+                        .map_or(s.at, |p| self.own_of(p.position))
+                };
+                Candidate {
+                    unum: s.default_unum,
+                    at,
+                }
+            })
+            .collect();
+        let mut roles = self.memory.roles.borrow_mut();
+        roles.update(&candidates, &slots, ROLE_HYSTERESIS_M2);
+        roles.slot_of(unum).unwrap_or(unum)
+    }
+}
