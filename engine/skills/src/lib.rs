@@ -283,8 +283,12 @@ impl Skills {
                 target,
                 heading_deg,
                 max_speed_m_s,
-            } => walk::walk_to::velocity_towards(target, heading_deg, walk_params)
-                .map(|v| v.capped(max_speed_m_s)),
+            } => if self.walk.is_stepping() {
+                walk::walk_to::velocity_towards(target, heading_deg, walk_params)
+            } else {
+                walk::walk_to::velocity_from_rest(target, heading_deg, walk_params)
+            }
+            .map(|v| v.capped(max_speed_m_s)),
         };
         // A dive played out while the request is still held: stay down in its end pose, on
         // the line, until the decision layer lets go (then the get-up starts after `rest_s`).

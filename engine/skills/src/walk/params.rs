@@ -86,6 +86,12 @@ pub struct WalkToParams {
     /// Close enough in position [m] and heading [deg] to stop.
     pub arrive_m: f64,
     pub arrive_deg: f64,
+    /// Standing, the robot walks again only once the target is this far [m] or this much
+    /// turned [deg]: a target wobbling by a few centimetres (a self-estimate, a ball being
+    /// watched) otherwise starts and stops the walk every few cycles, and those starts are
+    /// where robots holding a position fall.
+    pub restart_m: f64,
+    pub restart_deg: f64,
 }
 
 /// Stiffness and damping beyond which the server's explicit Euler integration (h = 5 ms)
@@ -243,6 +249,18 @@ impl WalkParams {
         )?;
         in_range(&format!("{w}.walk_to.arrive_m"), t.arrive_m, 0.001, 1.0)?;
         in_range(&format!("{w}.walk_to.arrive_deg"), t.arrive_deg, 0.1, 90.0)?;
+        in_range(
+            &format!("{w}.walk_to.restart_m"),
+            t.restart_m,
+            t.arrive_m,
+            2.0,
+        )?;
+        in_range(
+            &format!("{w}.walk_to.restart_deg"),
+            t.restart_deg,
+            t.arrive_deg,
+            90.0,
+        )?;
         Ok(())
     }
 }

@@ -13,6 +13,23 @@ pub fn velocity_towards(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> O
     if distance < t.arrive_m && heading_deg.abs() < t.arrive_deg {
         return None;
     }
+    velocity(target, heading_deg, p)
+}
+
+/// As [`velocity_towards`] for a robot standing still: `None` until the target is beyond
+/// `restart_m` or `restart_deg`.
+pub fn velocity_from_rest(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> Option<Velocity> {
+    let t = &p.walk_to;
+    if target[0].hypot(target[1]) < t.restart_m && heading_deg.abs() < t.restart_deg {
+        return None;
+    }
+    velocity_towards(target, heading_deg, p)
+}
+
+fn velocity(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> Option<Velocity> {
+    let t = &p.walk_to;
+    let [x, y] = target;
+    let distance = x.hypot(y);
     let bearing_deg = y.atan2(x).to_degrees();
     let (forward, sideways, turn_error_deg) = if distance > t.face_target_beyond_m {
         // Far: turn to face the target and walk forwards, slowing down while badly turned.
@@ -30,4 +47,24 @@ pub fn velocity_towards(target: [f64; 2], heading_deg: f64, p: &WalkParams) -> O
         }
         .within_limits(p),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_standing_robot_ignores_a_target_wobbling_within_the_restart_band() {
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&model).unwrap().walk;
+        let t = &p.walk_to;
+        // Walking, anything beyond the arrival tolerance is walked to.
+        let wobble = [t.arrive_m * 2.0, 0.0];
+        assert!(velocity_towards(wobble, 0.0, &p).is_some());
+        // Standing, the same wobble (and a few degrees of heading) leave the robot standing.
+        assert!(velocity_from_rest(wobble, t.arrive_deg * 1.5, &p).is_none());
+        // Beyond the band it walks again.
+        assert!(velocity_from_rest([t.restart_m * 1.1, 0.0], 0.0, &p).is_some());
+        assert!(velocity_from_rest([0.0, 0.0], t.restart_deg * 1.1, &p).is_some());
+    }
 }
