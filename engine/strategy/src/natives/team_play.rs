@@ -112,9 +112,25 @@ fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
 }
 
 impl AgentHost<'_> {
+    /// Who goes for the ball, as this player sees it: itself when its last `am_ball_winner`
+    /// said so, else the teammate with the quickest claim heard lately.
+    fn ball_winner_unum(&self) -> Option<u8> {
+        if self.memory.ball_winner.get() {
+            return Some(self.unum());
+        }
+        let now = self.world.time;
+        self.world
+            .heard
+            .recent_claims(now)
+            .filter_map(|(u, t)| Some((u, t?)))
+            .filter(|(u, _)| *u != 1)
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .and_then(|(u, _)| u8::try_from(u).ok())
+    }
+
     /// The formation slot (by its default uniform number) this player holds: in play, the
-    /// optimal assignment of the field positions to the field players; in kick-offs and set
-    /// plays, and for the goalkeeper, its own.
+    /// ball winner the slot nearest the ball and the others the optimal assignment of the rest;
+    /// in kick-offs and set plays, and for the goalkeeper, its own.
     pub(crate) fn slot(&self) -> u8 {
         let unum = self.unum();
         let situation = self.situation();
@@ -128,8 +144,9 @@ impl AgentHost<'_> {
         let Some(formation) = self.strategy.formation_for(situation) else {
             return unum;
         };
-        let ball = super::host::value(self.ball());
-        let slots: Vec<Slot> = formation
+        let ball_at = self.ball();
+        let ball = super::host::value(ball_at);
+        let mut slots: Vec<Slot> = formation
             .roles
             .iter()
             .filter(|r| r.unum != 1)
@@ -140,23 +157,46 @@ impl AgentHost<'_> {
                 })
             })
             .collect();
+        // The ball winner goes for the ball: it takes the slot nearest the ball, and the others
+        // share the rest, so the slots ahead of the ball stay held when it kicks long.
+        let winner = self.ball_winner_unum();
+        let winner_slot = winner.and_then(|_| {
+            let nearest = slots
+                .iter()
+                .enumerate()
+                .min_by(|a, b| {
+                    a.1.at
+                        .distance(ball_at)
+                        .total_cmp(&b.1.at.distance(ball_at))
+                })?
+                .0;
+            Some(slots.remove(nearest).default_unum)
+        });
+        if winner == Some(unum) {
+            return winner_slot.unwrap_or(unum);
+        }
         let world = self.world;
-        let candidates: Vec<Candidate> = slots
+        let candidates: Vec<Candidate> = formation
+            .roles
             .iter()
-            .map(|s| {
-                let at = if s.default_unum == unum {
+            .map(|r| r.unum)
+            .filter(|u| *u != 1 && Some(*u) != winner)
+            .map(|player| {
+                let own_slot = || {
+                    formation
+                        .position(player, ball)
+                        .map_or(ball_at, super::host::own)
+                };
+                let at = if player == unum {
                     self.me()
                 } else {
                     world
                         .players
-                        .get(Relation::Teammate, u32::from(s.default_unum))
+                        .get(Relation::Teammate, u32::from(player))
                         .filter(|p| p.age(world.time) <= TEAMMATE_NEWS_S)
-                        .map_or(s.at, |p| self.own_of(p.position))
+                        .map_or_else(own_slot, |p| self.own_of(p.position))
                 };
-                Candidate {
-                    unum: s.default_unum,
-                    at,
-                }
+                Candidate { unum: player, at }
             })
             .collect();
         let mut roles = self.memory.roles.borrow_mut();
