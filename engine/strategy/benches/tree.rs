@@ -28,14 +28,20 @@ impl Host for BenchHost {
     }
     fn query(&self, id: libero_behavior::NativeId, _args: Args) -> Value {
         match self.ids.spec(id).name.as_str() {
-            "am_closest_to_ball" => Value::Bool(true),
+            "am_ball_winner" => Value::Bool(true),
             "ball_distance" => Value::Float(3.0),
+            // Within a long kick's roll of the goal: the dribble branch.
+            "distance" => Value::Float(8.0),
             "ball_position" => Value::Vec2(Vec2::new(1.0, 2.0)),
             _ => Value::Vec2(Vec2::new(-5.0, 0.0)),
         }
     }
     fn condition(&self, id: libero_behavior::NativeId, args: Args) -> bool {
-        self.ids.spec(id).name == "PlayModeIs" && args.str(0) == "PlayOn"
+        match self.ids.spec(id).name.as_str() {
+            "PlayModeIs" => args.str(0) == "PlayOn",
+            "MayPlayBall" => true,
+            _ => false,
+        }
     }
     fn action(&mut self, _id: libero_behavior::NativeId, args: Args) -> Status {
         black_box(args.vec2(0));
@@ -46,10 +52,11 @@ impl Host for BenchHost {
 /// The field player's play-on decisions written directly in Rust: the baseline.
 fn hand_written(
     host: &mut BenchHost,
-    ids: &[libero_behavior::NativeId; 8],
+    ids: &[libero_behavior::NativeId; 11],
     modes: &[Value; 1],
 ) -> Status {
-    let [can_beam, fallen, mode, closest, distance, ball, shot_is_good, dribble] = *ids;
+    let [can_beam, fallen, mode, may_play, winner, distance, ball, shot_is_good, far, goal, dribble] =
+        *ids;
     if host.condition(can_beam, Args(&[])) {
         return Status::Running;
     }
@@ -59,7 +66,10 @@ fn hand_written(
     if !host.condition(mode, Args(&modes[..1])) {
         return Status::Running;
     }
-    let chase = 0.5 * f64::from(u8::from(host.query(closest, Args(&[])).as_bool()))
+    if !host.condition(may_play, Args(&[])) {
+        return Status::Running;
+    }
+    let chase = 0.5 * f64::from(u8::from(host.query(winner, Args(&[])).as_bool()))
         + 0.5 * (1.0 - host.query(distance, Args(&[])).as_f64() / 20.0);
     if chase + 0.1 <= 0.6 {
         return host.action(dribble, Args(&[Value::Vec2(Vec2::new(-5.0, 0.0))]));
@@ -68,6 +78,10 @@ fn hand_written(
         return Status::Running;
     }
     let target = host.query(ball, Args(&[]));
+    let to_goal = host.query(goal, Args(&[]));
+    if host.query(far, Args(&[target.clone(), to_goal])).as_f64() > 11.5 {
+        return Status::Running;
+    }
     host.action(
         dribble,
         Args(&[target, Value::Float(0.5), Value::Float(4.0)]),
@@ -102,10 +116,13 @@ fn tick(c: &mut Criterion) {
         vocabulary.find(Condition, "CanBeam").unwrap(),
         vocabulary.find(Condition, "IsFallen").unwrap(),
         vocabulary.find(Condition, "PlayModeIs").unwrap(),
-        vocabulary.find(Query, "am_closest_to_ball").unwrap(),
+        vocabulary.find(Condition, "MayPlayBall").unwrap(),
+        vocabulary.find(Query, "am_ball_winner").unwrap(),
         vocabulary.find(Query, "ball_distance").unwrap(),
         vocabulary.find(Query, "ball_position").unwrap(),
         vocabulary.find(Condition, "ShotIsGood").unwrap(),
+        vocabulary.find(Query, "distance").unwrap(),
+        vocabulary.find(Query, "opponent_goal").unwrap(),
         vocabulary.find(Action, "DribbleTo").unwrap(),
     ];
     let modes = [Value::String("PlayOn".into())];
