@@ -16,8 +16,10 @@ const POSITION_Y_BITS: u32 = 9;
 const MARGIN_M: f64 = 2.0;
 const AGE_STEP_S: f64 = 0.1;
 const AGE_BITS: u32 = 5;
-const TIME_STEP_S: f64 = 0.1;
+const TIME_STEP_S: f64 = 0.2;
 const TIME_BITS: u32 = 7;
+/// The longest time-to-ball a message can tell [s]; a claim of this much means "this or more".
+pub const TIME_TO_BALL_MAX_S: f64 = TIME_STEP_S * ((1u64 << TIME_BITS) - 2) as f64;
 const CHECK: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
 
 /// Each slot of the turn-taking carries this many speakers on rcssservermj (a listener hears

@@ -5,6 +5,7 @@ use super::{AgentHost, Native, Ports};
 use crate::roles::{Candidate, Slot};
 use crate::Situation;
 use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType};
+use libero_world::team_message::TIME_TO_BALL_MAX_S;
 use libero_world::{Own, Relation};
 
 pub(super) const NODES: &[Native] = &[Native::query(am_ball_winner_ports, am_ball_winner)];
@@ -93,7 +94,13 @@ fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
         .of(Relation::Teammate)
         .filter(|p| p.unum != 1 && p.unum != world.game.unum && p.age(now) <= CLAIM_FRESH_S)
         .map(|p| {
-            let heard = claims.iter().find(|(u, _)| *u == p.unum).and_then(|c| c.1);
+            // A claim at the message's ceiling says only "this or more": then the prediction
+            // from where the teammate is (otherwise every player far away waits for another).
+            let heard = claims
+                .iter()
+                .find(|(u, _)| *u == p.unum)
+                .and_then(|c| c.1)
+                .filter(|t| *t < TIME_TO_BALL_MAX_S - 1e-6);
             heard.unwrap_or_else(|| {
                 pace.time(
                     host.own_of(p.position),
@@ -124,7 +131,7 @@ impl AgentHost<'_> {
             .recent_claims(now)
             .filter_map(|(u, t)| Some((u, t?)))
             .filter(|(u, _)| *u != 1)
-            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
             .and_then(|(u, _)| u8::try_from(u).ok())
     }
 

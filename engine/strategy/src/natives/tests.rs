@@ -442,6 +442,27 @@ mod team_play {
     }
 
     #[test]
+    fn a_claim_at_the_messages_ceiling_is_judged_from_where_the_teammate_is() {
+        use libero_world::team_message::TIME_TO_BALL_MAX_S;
+        // We are 14 m from the ball (28 s); every claim heard is at the ceiling (25 s), which
+        // only says "25 s or more". Before, everybody far away waited for somebody else.
+        let mut w = world([-4.0, 0.0], [10.0, 0.0]);
+        w.heard.claims.push((3, Some(TIME_TO_BALL_MAX_S), 19.9));
+        w.players
+            .heard(Relation::Teammate, 3, [-10.0, 0.0], Some(false), 19.9);
+        assert!(
+            winner(&w, &mut PlayerMemory::default()),
+            "the teammate is 20 m away"
+        );
+        w.players
+            .heard(Relation::Teammate, 3, [-3.0, 0.0], Some(false), 19.95);
+        assert!(
+            !winner(&w, &mut PlayerMemory::default()),
+            "the teammate is 13 m away"
+        );
+    }
+
+    #[test]
     fn in_play_a_player_takes_the_formation_slot_the_assignment_gives_it() {
         // The ball at the centre: in `attack`, slot 2 is at (-12, 5) and slot 3 at (-12, -5).
         let mut w = world([-12.0, -5.0], [0.0, 0.0]);
