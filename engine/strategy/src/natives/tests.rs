@@ -479,23 +479,6 @@ mod team_play {
         let at = run_query(&w, "formation_position", &[Value::Float(0.0)], &mut memory).as_vec2();
         assert!(at.y > 0.0, "{at:?}");
     }
-}
-
-mod ball_winner_slot {
-    use super::*;
-    use libero_world::{PlayMode, Relation, Side, World};
-
-    fn world() -> World {
-        let model = libero_model::RobotModel::builtin("T1").unwrap();
-        let mut world = World::new(&model, "Libero", 2);
-        world.game.side = Some(Side::Left);
-        world.game.play_mode = PlayMode::PlayOn;
-        world.time = 20.0;
-        world.me.localized = true;
-        world.ball.position = [0.0, 0.0];
-        world.ball.last_seen_time = Some(20.0);
-        world
-    }
 
     fn formation_position(world: &World, memory: &mut PlayerMemory) -> Vec2 {
         run_query(world, "formation_position", &[Value::Float(0.0)], memory).as_vec2()
@@ -506,8 +489,7 @@ mod ball_winner_slot {
         // In `attack` with the ball at the centre the slot nearest the ball is the centre
         // midfielder's (5) at (-4, 0); the striker's (7) is at (6, 0), drawn a tenth of the way
         // to the ball: (5.4, 0).
-        let mut w = world();
-        w.me.position = [5.5, 0.0];
+        let mut w = world([5.5, 0.0], [0.0, 0.0]);
         let mut memory = PlayerMemory::default();
         memory.ball_winner.set(true);
         let at = formation_position(&w, &mut memory);
