@@ -44,6 +44,9 @@ pub struct AgentHost<'a> {
 pub(crate) struct TickCache {
     pub(crate) best_shot: std::cell::OnceCell<crate::shot::ShotChoice>,
     pub(crate) shot_on_goal: std::cell::OnceCell<Option<crate::goalkeeper::Shot>>,
+    /// The formation slot this player holds: one role assignment (and one hysteresis step)
+    /// per tick, however many nodes ask.
+    pub(crate) slot: std::cell::OnceCell<u8>,
 }
 
 impl<'a> AgentHost<'a> {

@@ -139,6 +139,10 @@ impl AgentHost<'_> {
     /// ball winner the slot nearest the ball and the others the optimal assignment of the rest;
     /// in kick-offs and set plays, and for the goalkeeper, its own.
     pub(crate) fn slot(&self) -> u8 {
+        *self.tick.slot.get_or_init(|| self.assigned_slot())
+    }
+
+    fn assigned_slot(&self) -> u8 {
         let unum = self.unum();
         let situation = self.situation();
         let in_play = matches!(
