@@ -34,6 +34,8 @@ pub struct Player {
     /// Where new skill parameters come from while playing, and the version in use.
     skill_source: SkillSource,
     skill_generation: u64,
+    /// Percept payloads still to be recorded into the stats.
+    to_record: usize,
 }
 
 /// Where the evaluation log goes and whether it carries decision traces.
@@ -72,6 +74,24 @@ impl Player {
             eval_log: None,
             skill_source: SkillSource::Builtin,
             skill_generation: 0,
+            to_record: 0,
+        }
+    }
+
+    /// Keep the next `limit` percept payloads in the stats ([`AgentStats::take_recording`]).
+    /// A fresh player built the same way and fed them through [`Player::on_percept`] replays
+    /// this one's cycles offline (benchmarks, allocation counts, debugging a decision).
+    pub fn record_frames(&mut self, limit: usize) {
+        self.to_record = limit;
+    }
+
+    fn record(&mut self, payload: &[u8]) {
+        if self.to_record == 0 {
+            return;
+        }
+        self.to_record -= 1;
+        if let Ok(mut recorded) = self.stats.recorded.lock() {
+            recorded.push(payload.to_vec());
         }
     }
 
@@ -148,9 +168,14 @@ impl Player {
     /// a missing reply stalls a sync-mode server.
     pub fn on_percept(&mut self, payload: &[u8], out: &mut Vec<u8>) {
         AgentStats::bump(&self.stats.percepts);
+        self.record(payload);
+        let mut stopwatch = Stopwatch::start();
         self.writer.clear();
         let first = self.world.cycle == 0;
-        match parse_percept(payload, self.model.server) {
+        let parsed = parse_percept(payload, self.model.server);
+        let stages = &self.stats.stages;
+        stopwatch.lap(&stages.parse_ns);
+        match parsed {
             Ok(percept) => {
                 let before = self.world.time;
                 self.world.update(&self.model, &percept);
@@ -175,6 +200,7 @@ impl Player {
                 log::error!("init not sent: {e}");
             }
         }
+        stopwatch.lap(&self.stats.stages.world_ns);
         self.intent = self.decider.decide(&self.world);
         self.tell_teammates();
         if self.share_trace {
@@ -196,6 +222,7 @@ impl Player {
                 self.eval_log = None;
             }
         }
+        stopwatch.lap(&self.stats.stages.decide_ns);
         self.pick_up_skill_params();
         self.skills
             .act(&self.model, &self.world, &self.intent, &mut self.targets);
@@ -218,6 +245,7 @@ impl Player {
         if beam_now {
             self.beamed_in = Some(mode);
         }
+        stopwatch.lap(&self.stats.stages.skills_ns);
         write_actions(
             &self.model,
             &self.world,
@@ -227,6 +255,7 @@ impl Player {
             &mut self.writer,
         );
         self.writer.frame_into(out);
+        stopwatch.lap(&self.stats.stages.write_ns);
         AgentStats::bump(&self.stats.replies);
     }
 
@@ -277,6 +306,21 @@ impl Player {
         if let Ok(mut estimate) = self.stats.self_estimate.lock() {
             *estimate = Some(self.world.me.position);
         }
+    }
+}
+
+/// Laps of one cycle's stages, each added to its counter.
+struct Stopwatch(std::time::Instant);
+
+impl Stopwatch {
+    fn start() -> Self {
+        Self(std::time::Instant::now())
+    }
+
+    fn lap(&mut self, total_ns: &std::sync::atomic::AtomicU64) {
+        let now = std::time::Instant::now();
+        AgentStats::add(total_ns, (now - self.0).as_nanos() as u64);
+        self.0 = now;
     }
 }
 

@@ -30,6 +30,38 @@ pub struct AgentStats {
     /// Whether the last cycle played a whole-body motion (get-up or save) that nothing
     /// interrupts: a harness that places robots waits for it to end.
     pub in_motion: std::sync::atomic::AtomicBool,
+    /// Where the cycles' time went, stage by stage (wall time inside `Player::on_percept`).
+    pub stages: StageTimes,
+    /// The percept payloads recorded since the player was asked to (`Player::record_frames`).
+    pub recorded: Mutex<Vec<Vec<u8>>>,
+}
+
+/// Time spent in each stage of the per-cycle pipe [ns], summed over the cycles.
+#[derive(Debug, Default)]
+pub struct StageTimes {
+    /// Bytes → typed percept.
+    pub parse_ns: AtomicU64,
+    /// Percept → world model.
+    pub world_ns: AtomicU64,
+    /// World → intent (the tree tick) and the team message.
+    pub decide_ns: AtomicU64,
+    /// Intent → joint targets.
+    pub skills_ns: AtomicU64,
+    /// Joint targets → reply bytes.
+    pub write_ns: AtomicU64,
+}
+
+impl StageTimes {
+    /// (stage name, total ns) in pipe order.
+    pub fn totals(&self) -> [(&'static str, u64); 5] {
+        [
+            ("parse", AgentStats::get(&self.parse_ns)),
+            ("world", AgentStats::get(&self.world_ns)),
+            ("decide", AgentStats::get(&self.decide_ns)),
+            ("skills", AgentStats::get(&self.skills_ns)),
+            ("write", AgentStats::get(&self.write_ns)),
+        ]
+    }
 }
 
 impl AgentStats {
@@ -68,5 +100,17 @@ impl AgentStats {
 
     pub(crate) fn bump(counter: &AtomicU64) {
         counter.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub(crate) fn add(counter: &AtomicU64, amount: u64) {
+        counter.fetch_add(amount, Ordering::Relaxed);
+    }
+
+    /// The payloads recorded so far (taken: the recording goes on into an empty list).
+    pub fn take_recording(&self) -> Vec<Vec<u8>> {
+        self.recorded
+            .lock()
+            .map(|mut r| std::mem::take(&mut *r))
+            .unwrap_or_default()
     }
 }

@@ -117,9 +117,12 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
     let source = data.source()?;
     let skills = data.skills(&model)?;
     let config = AgentConfig::new("127.0.0.1", server.agent_port);
-    let ours = (1..=players)
+    let mut ours = (1..=players)
         .map(|unum| build_player(&model, "Libero", unum, &source, &skills))
         .collect::<Result<Vec<_>, _>>()?;
+    if let Some(first) = ours.first_mut() {
+        first.record_frames(RECORDED_MAX);
+    }
     println!("bench cycle: {players} of our agents and {players} that only answer, {play_s} s of play on a fast-mode rcssservermj…");
     let team = Team::start(&config, ours, shutdown.clone());
     let stop = Arc::new(AtomicBool::new(false));
@@ -150,6 +153,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
     let base_replies = |b: &[(std::thread::JoinHandle<()>, Arc<AtomicU64>)]| -> u64 {
         b.iter().map(|(_, r)| r.load(Ordering::Relaxed)).sum()
     };
+    let stages_before = stage_totals(&team);
     let start = (
         threads_cpu("agent-"),
         threads_cpu(BASELINE_THREAD),
@@ -166,6 +170,11 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         std::thread::sleep(Duration::from_millis(50));
     }
     let ours_cpu = threads_cpu("agent-") - start.0;
+    let stages: Vec<(&str, u64)> = stage_totals(&team)
+        .iter()
+        .zip(&stages_before)
+        .map(|(&(name, after), &(_, before))| (name, after - before))
+        .collect();
     let base_cpu = threads_cpu(BASELINE_THREAD) - start.1;
     let server_cpu = process_cpu(server_pid) - start.2;
     let ours_cycles = ours_replies() - start.3;
@@ -177,6 +186,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         .iter()
         .map(|(_, s)| AgentStats::get(&s.missed_cycles))
         .sum();
+    let recorded = team_recording(&team);
     shutdown.store(true, Ordering::Relaxed);
     stop.store(true, Ordering::Relaxed);
     team.join();
@@ -194,6 +204,10 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
     println!("baseline (answer only): {base_us:.1} us CPU per agent-cycle ({base_cycles} agent-cycles, {base_cpu:.2} s CPU)");
     println!("ratio ours / baseline: {:.2}", ours_us / base_us);
     println!(
+        "ours by stage (wall time inside the cycle): {}",
+        stage_line(&stages, ours_cycles)
+    );
+    println!(
         "server: {:.0} us CPU per cycle ({server_cycles} cycles, {server_cpu:.2} s CPU)",
         per(server_cpu, server_cycles)
     );
@@ -201,7 +215,83 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         "peak RSS of this process (both teams): {:.1} MB",
         peak_rss_mb()
     );
+    if !recorded.is_empty() {
+        let (cpu_us, stages) = replay(&recorded, &model, &source, &skills)?;
+        println!(
+            "replay of agent 1's {} recorded cycles, offline ({REPLAYS} times on one thread, no sockets): {cpu_us:.1} us CPU per cycle; by stage: {}",
+            recorded.len(),
+            stage_line(&stages, (recorded.len() * REPLAYS) as u64)
+        );
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Percepts agent 1 records for the offline replay (60 s of play).
+const RECORDED_MAX: usize = 3000;
+/// How often the replay runs the recording (each time on a fresh player).
+const REPLAYS: usize = 5;
+
+fn stage_totals(team: &Team) -> Vec<(&'static str, u64)> {
+    let mut sums: Vec<(&'static str, u64)> = Vec::new();
+    for (_, stats) in &team.stats {
+        for (i, (name, ns)) in stats.stages.totals().into_iter().enumerate() {
+            match sums.get_mut(i) {
+                Some(sum) => sum.1 += ns,
+                None => sums.push((name, ns)),
+            }
+        }
+    }
+    sums
+}
+
+fn stage_line(stages: &[(&str, u64)], cycles: u64) -> String {
+    stages
+        .iter()
+        .map(|(name, ns)| format!("{name} {:.1} us", *ns as f64 / 1e3 / cycles.max(1) as f64))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn team_recording(team: &Team) -> Vec<Vec<u8>> {
+    team.stats
+        .first()
+        .map(|(_, stats)| stats.take_recording())
+        .unwrap_or_default()
+}
+
+/// Run `frames` through fresh copies of agent 1, [`REPLAYS`] times, on a thread of its own:
+/// the CPU per cycle and the stage totals.
+fn replay(
+    frames: &[Vec<u8>],
+    model: &std::sync::Arc<libero_model::RobotModel>,
+    source: &libero_agent::LibrarySource,
+    skills: &libero_agent::SkillSource,
+) -> Result<(f64, Vec<(&'static str, u64)>), Box<dyn std::error::Error>> {
+    let players = (0..REPLAYS)
+        .map(|_| build_player(model, "Libero", 1, source, skills))
+        .collect::<Result<Vec<_>, _>>()?;
+    let thread = std::thread::Builder::new()
+        .name("replay-1".into())
+        .spawn({
+            let frames = frames.to_vec();
+            move || {
+                let before = threads_cpu("replay-");
+                let mut out = Vec::with_capacity(4096);
+                let mut stages = vec![("", 0u64); 5];
+                for mut player in players {
+                    for frame in &frames {
+                        out.clear();
+                        player.on_percept(frame, &mut out);
+                    }
+                    for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
+                        *sum = (name, sum.1 + ns);
+                    }
+                }
+                (threads_cpu("replay-") - before, stages)
+            }
+        })?;
+    let (cpu_s, stages) = thread.join().map_err(|_| "the replay panicked")?;
+    Ok((1e6 * cpu_s / (frames.len() * REPLAYS).max(1) as f64, stages))
 }
 
 #[cfg(test)]
