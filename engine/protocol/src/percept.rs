@@ -5,7 +5,24 @@
 //! readings are rotated here, once). Angles stay in degrees as on the wire.
 
 use crate::sexp::{self, List, Sexp, SexpError};
+use arrayvec::ArrayVec;
 use libero_model::ServerKind;
+
+// Capacities of a percept's lists: a percept lives on the stack, so reading one never touches
+// the heap. Items beyond them are dropped and the block is named in `skipped`.
+/// Joints (T1 23, NAO 22).
+pub const MAX_JOINTS: usize = 32;
+pub const MAX_FOOT_CONTACTS: usize = 4;
+/// Landmarks in one vision frame (rcssservermj sees up to ~30 line ends, posts, spots).
+pub const MAX_LANDMARKS: usize = 48;
+/// Robots in one vision frame (11 a side).
+pub const MAX_PLAYERS_SEEN: usize = 24;
+/// Body parts of one seen robot (SimSpark 5, rcssservermj 3).
+pub const MAX_PARTS: usize = 8;
+/// Field lines in one vision frame (SimSpark).
+pub const MAX_LINES: usize = 32;
+pub const MAX_HEARD: usize = 16;
+pub const MAX_SKIPPED: usize = 16;
 
 /// A point seen by the camera, in the camera's polar coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -52,7 +69,7 @@ pub struct SeenPlayer<'a> {
     pub team: &'a str,
     pub unum: u32,
     /// Visible parts (`head`, `lfoot`, `rfoot`, `llowerarm`, ...).
-    pub parts: Vec<Seen<'a>>,
+    pub parts: ArrayVec<Seen<'a>, MAX_PARTS>,
 }
 
 /// A visible field line segment (SimSpark only).
@@ -66,10 +83,12 @@ pub struct SeenLine {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Vision<'a> {
     /// Fixed landmarks by their server name (`l_luf`, `g_rup`, `F1L`, `G2R`, ...).
-    pub landmarks: Vec<Seen<'a>>,
+    pub landmarks: ArrayVec<Seen<'a>, MAX_LANDMARKS>,
     pub ball: Option<Polar>,
-    pub players: Vec<SeenPlayer<'a>>,
-    pub lines: Vec<SeenLine>,
+    pub players: ArrayVec<SeenPlayer<'a>, MAX_PLAYERS_SEEN>,
+    pub lines: ArrayVec<SeenLine, MAX_LINES>,
+    /// Some items did not fit the capacities above.
+    pub overflowed: bool,
 }
 
 /// Which team a message came from, relative to the listener.
@@ -127,12 +146,13 @@ pub struct Percept<'a> {
     pub gyro: Option<[f64; 3]>,
     /// Torso specific force [m/s²], robot frame (≈ +9.81 on z when upright).
     pub accel: Option<[f64; 3]>,
-    pub joints: Vec<JointReading<'a>>,
-    pub foot_contacts: Vec<FootContact<'a>>,
+    pub joints: ArrayVec<JointReading<'a>, MAX_JOINTS>,
+    pub foot_contacts: ArrayVec<FootContact<'a>, MAX_FOOT_CONTACTS>,
     pub vision: Option<Vision<'a>>,
-    pub heard: Vec<Heard<'a>>,
-    /// Top-level items we did not recognise or could not read, by name (for diagnostics).
-    pub skipped: Vec<&'a str>,
+    pub heard: ArrayVec<Heard<'a>, MAX_HEARD>,
+    /// Top-level items we did not recognise, could not read or could not hold all of, by name
+    /// (for diagnostics; the first [`MAX_SKIPPED`]).
+    pub skipped: ArrayVec<&'a str, MAX_SKIPPED>,
 }
 
 /// Why a message could not be read at all.
@@ -153,14 +173,11 @@ pub fn parse_percept(payload: &[u8], server: ServerKind) -> Result<Percept<'_>, 
 
 /// As [`parse_percept`], from text.
 pub fn parse_percept_str(text: &str, server: ServerKind) -> Result<Percept<'_>, PerceptError> {
-    let mut p = Percept {
-        joints: Vec::with_capacity(26),
-        ..Percept::default()
-    };
+    let mut p = Percept::default();
     for item in sexp::top_level(text) {
         let item = item?;
         let Some(list) = item.as_list() else {
-            p.skipped.push(item.as_atom().unwrap_or(""));
+            let _ = p.skipped.try_push(item.as_atom().unwrap_or(""));
             continue;
         };
         let name = list.head().unwrap_or("");
@@ -186,20 +203,20 @@ pub fn parse_percept_str(text: &str, server: ServerKind) -> Result<Percept<'_>, 
                 .numbers::<3>("a")
                 .map(|v| p.accel = Some(to_robot_frame(v, server)))
                 .is_some(),
-            "HJ" => read_joint(list).map(|j| p.joints.push(j)).is_some(),
-            "FRP" => read_foot(list, server)
-                .map(|f| p.foot_contacts.push(f))
-                .is_some(),
+            "HJ" => read_joint(list).is_some_and(|j| p.joints.try_push(j).is_ok()),
+            "FRP" => read_foot(list, server).is_some_and(|f| p.foot_contacts.try_push(f).is_ok()),
             "See" => {
-                p.vision = Some(read_vision(list));
-                true
+                let vision = read_vision(list);
+                let whole = !vision.overflowed;
+                p.vision = Some(vision);
+                whole
             }
             "MIC" => read_mic(list, &mut p.heard),
-            "hear" => read_hear(list).map(|h| p.heard.push(h)).is_some(),
+            "hear" => read_hear(list).is_some_and(|h| p.heard.try_push(h).is_ok()),
             _ => false,
         };
         if !ok {
-            p.skipped.push(name);
+            let _ = p.skipped.try_push(name);
         }
     }
     Ok(p)
@@ -273,7 +290,7 @@ fn read_vision(list: List<'_>) -> Vision<'_> {
         match item.head() {
             Some("P") => {
                 if let Some(player) = read_player(item) {
-                    vision.players.push(player);
+                    vision.overflowed |= vision.players.try_push(player).is_err();
                 }
             }
             Some("L") => {
@@ -282,13 +299,13 @@ fn read_vision(list: List<'_>) -> Vision<'_> {
                     .filter_map(|c| c.as_list())
                     .filter_map(read_polar);
                 if let (Some(from), Some(to)) = (ends.next(), ends.next()) {
-                    vision.lines.push(SeenLine { from, to });
+                    vision.overflowed |= vision.lines.try_push(SeenLine { from, to }).is_err();
                 }
             }
             Some("B") => vision.ball = item.child("pol").and_then(read_polar),
             Some(name) => {
                 if let Some(at) = item.child("pol").and_then(read_polar) {
-                    vision.landmarks.push(Seen { name, at });
+                    vision.overflowed |= vision.landmarks.try_push(Seen { name, at }).is_err();
                 }
             }
             None => {}
@@ -301,18 +318,19 @@ fn read_player(list: List<'_>) -> Option<SeenPlayer<'_>> {
     let mut player = SeenPlayer {
         team: list.value("team").unwrap_or(""),
         unum: list.value("id")?.parse().ok()?,
-        parts: Vec::new(),
+        parts: ArrayVec::new(),
     };
     for part in list.tail().filter_map(|c| c.as_list()) {
         if let (Some(name), Some(at)) = (part.head(), part.child("pol").and_then(read_polar)) {
-            player.parts.push(Seen { name, at });
+            // A robot has no more parts than this; extra ones would be a server's invention.
+            let _ = player.parts.try_push(Seen { name, at });
         }
     }
     Some(player)
 }
 
 /// rcssservermj: `(MIC hear (az b64) (az b64) …)`.
-fn read_mic<'a>(list: List<'a>, heard: &mut Vec<Heard<'a>>) -> bool {
+fn read_mic<'a>(list: List<'a>, heard: &mut ArrayVec<Heard<'a>, MAX_HEARD>) -> bool {
     for msg in list.tail().filter_map(|c| c.as_list()) {
         let mut parts = msg.iter();
         let (Some(az), Some(Sexp::Atom(text))) =
@@ -320,12 +338,17 @@ fn read_mic<'a>(list: List<'a>, heard: &mut Vec<Heard<'a>>) -> bool {
         else {
             continue;
         };
-        heard.push(Heard {
-            team: None,
-            time: None,
-            from: HeardFrom::Direction(az),
-            message: text,
-        });
+        if heard
+            .try_push(Heard {
+                team: None,
+                time: None,
+                from: HeardFrom::Direction(az),
+                message: text,
+            })
+            .is_err()
+        {
+            return false;
+        }
     }
     true
 }

@@ -176,3 +176,34 @@ fn simspark_playon_vision_sample() {
         assert_eq!(p.game.play_mode, Some("PlayOn"));
     }
 }
+
+/// A percept lives on the stack with fixed capacities: more items than fit are dropped, and
+/// the block they came in is named in `skipped`, never a panic or a heap list.
+#[test]
+fn items_beyond_the_capacities_are_dropped_and_named() {
+    use libero_protocol::percept::{MAX_JOINTS, MAX_LANDMARKS};
+    let mut text = String::from("(time (now 1.0))");
+    for i in 0..MAX_JOINTS + 5 {
+        text.push_str(&format!("(HJ (n j{i}) (ax 1.0))"));
+    }
+    text.push_str("(See");
+    for i in 0..MAX_LANDMARKS + 3 {
+        text.push_str(&format!("(f{i} (pol 1 2 3))"));
+    }
+    text.push_str("(B (pol 1 2 3)))");
+    let p = parse_percept_str(&text, ServerKind::RcssMj).unwrap();
+    assert_eq!(p.joints.len(), MAX_JOINTS);
+    assert_eq!(
+        p.joints[MAX_JOINTS - 1].perceptor,
+        format!("j{}", MAX_JOINTS - 1)
+    );
+    let vision = p.vision.as_ref().unwrap();
+    assert_eq!(vision.landmarks.len(), MAX_LANDMARKS);
+    assert!(
+        vision.ball.is_some(),
+        "the ball after the overflow is still read"
+    );
+    assert!(vision.overflowed);
+    assert_eq!(p.skipped.iter().filter(|s| **s == "HJ").count(), 5);
+    assert!(p.skipped.contains(&"See"));
+}

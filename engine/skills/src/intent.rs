@@ -74,7 +74,7 @@ pub struct Intent {
     /// Beam to (x, y, θ°) in the team's own frame (own goal at −x), when the play mode allows.
     pub beam: Option<[f64; 3]>,
     /// A message to broadcast.
-    pub say: Option<Vec<u8>>,
+    pub say: Option<libero_world::team_message::Said>,
     /// The decision's claim to the ball: this player's predicted time to reach it [s], which
     /// it tells its teammates (`None`: not claiming).
     pub time_to_ball_s: Option<f64>,

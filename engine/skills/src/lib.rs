@@ -5,6 +5,7 @@
 //! has to start from an exact posture.
 
 pub mod dribble;
+mod gains;
 pub mod getup;
 pub mod intent;
 pub mod kick;
@@ -67,7 +68,6 @@ impl Default for SkillStatus {
 /// A blend from the previous skill's last pose into the current skill's output.
 #[derive(Debug, Clone)]
 struct Blend {
-    from: Vec<f64>,
     start_s: f64,
     duration_s: f64,
 }
@@ -88,11 +88,15 @@ pub struct Skills {
     after_dive: Option<(DiveSide, Vec<f64>)>,
     active: ActiveSkill,
     blend: Option<Blend>,
+    /// The pose the blend starts from (kept: a blend starts at every change of skill).
+    blend_from: Vec<f64>,
     /// The pose sent last cycle [deg per joint].
     last_pose: Vec<f64>,
     /// New parameters changed the stand pose: blend into it from the next cycle on.
     stand_changed: bool,
     pose: Vec<f64>,
+    gains: gains::GainTable,
+    save_motions: save::SaveMotions,
 }
 
 impl Skills {
@@ -103,15 +107,18 @@ impl Skills {
             walk: Walk::new(model)?,
             kick: kick::Kick::new(model)?,
             dribble: dribble::Dribble::default(),
-            get_up: getup::GetUp::new(),
-            save: save::Save::new(),
+            get_up: getup::GetUp::new().with_room(model.joints.len()),
+            save: save::Save::new().with_room(model.joints.len()),
             after_dive: None,
+            gains: gains::GainTable::new(model, &params),
+            save_motions: params.save.motions(),
             params,
             last_pose: stand.clone(),
             pose: stand.clone(),
             stand,
             active: ActiveSkill::Stand,
             blend: None,
+            blend_from: Vec::new(),
             stand_changed: false,
         })
     }
@@ -132,6 +139,8 @@ impl Skills {
         let stand = params.stand_pose(model)?;
         self.stand_changed |= stand != self.stand;
         self.stand = stand;
+        self.gains = gains::GainTable::new(model, &params);
+        self.save_motions = params.save.motions();
         self.params = params;
         Ok(())
     }
@@ -191,7 +200,7 @@ impl Skills {
             world,
             save_request,
             !self.get_up.is_running() && world.body.posture == libero_world::Posture::Upright,
-            &self.params.save,
+            &self.save_motions,
             model,
             &mut self.pose,
         );
@@ -375,11 +384,7 @@ impl Skills {
         }
         self.switch_to(active, world.time);
         if std::mem::take(&mut self.stand_changed) && self.blend.is_none() {
-            self.blend = Some(Blend {
-                from: self.last_pose.clone(),
-                start_s: world.time,
-                duration_s: self.params.walk.settle_s,
-            });
+            self.start_blend(world.time);
         }
         if !matches!(active, ActiveSkill::GetUp | ActiveSkill::Save) {
             // The get-up and save motions start from the measured angles and must not be
@@ -390,9 +395,7 @@ impl Skills {
         }
         out.hold_pose(model, &self.pose);
         if active == ActiveSkill::GetUp {
-            for (joint, g) in &self.params.get_up.gains {
-                out.set_gains(model, joint, g.kp, g.kd);
-            }
+            self.gains.get_up(out);
         }
         if active == ActiveSkill::Save {
             let side = self
@@ -400,23 +403,17 @@ impl Skills {
                 .side()
                 .or(self.after_dive.as_ref().map(|(side, _)| *side))
                 .unwrap_or(DiveSide::Centre);
-            for (joint, g) in self.params.save.gains_for(side) {
-                out.set_gains(model, &joint, g.kp, g.kd);
-            }
+            self.gains.save(side, out);
         }
         if matches!(
             self.active,
             ActiveSkill::Walk | ActiveSkill::Dribble | ActiveSkill::Kick
         ) {
-            for (joint, g) in &self.params.walk.leg_gains {
-                for side in ["left", "right"] {
-                    out.set_gains(model, &format!("{side}_{joint}"), g.kp, g.kd);
-                }
-            }
+            self.gains.walk(out);
         }
         if self.active == ActiveSkill::Kick {
-            for (joint, kp, kd) in self.kick.swing_gains(world.time, &self.params.kick) {
-                out.set_gains(model, &joint, kp, kd);
+            if let Some((foot, long)) = self.kick.swinging_with(world.time) {
+                self.gains.kick_swing(foot, long, out);
             }
         }
         self.last_pose.copy_from_slice(&self.pose);
@@ -451,13 +448,19 @@ impl Skills {
 
     fn switch_to(&mut self, active: ActiveSkill, now: f64) {
         if active != self.active {
-            self.blend = Some(Blend {
-                from: self.last_pose.clone(),
-                start_s: now,
-                duration_s: self.params.walk.settle_s,
-            });
+            self.start_blend(now);
             self.active = active;
         }
+    }
+
+    /// Blend from the pose sent last into what the skills produce, from `now` on.
+    fn start_blend(&mut self, now: f64) {
+        self.blend_from.clear();
+        self.blend_from.extend_from_slice(&self.last_pose);
+        self.blend = Some(Blend {
+            start_s: now,
+            duration_s: self.params.walk.settle_s,
+        });
     }
 
     fn apply_blend(&mut self, now: f64) {
@@ -473,7 +476,7 @@ impl Skills {
         }
         // Smoothstep: no jump in joint velocity at either end of the blend.
         let w = t * t * (3.0 - 2.0 * t);
-        for (q, from) in self.pose.iter_mut().zip(&blend.from) {
+        for (q, from) in self.pose.iter_mut().zip(&self.blend_from) {
             *q = from + (*q - from) * w;
         }
     }

@@ -3,6 +3,7 @@
 //! Parameters in `formations/avoidance.ron` ([`AvoidanceParams`]).
 
 use crate::files::Field;
+use arrayvec::ArrayVec;
 use libero_world::Own;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -14,6 +15,12 @@ pub struct Obstacle {
     /// Centre distance to keep from it [m].
     pub radius: f64,
 }
+
+/// The most obstacles considered at once (22 robots, 4 posts, the ball, and spare).
+pub const MAX_OBSTACLES: usize = 32;
+
+/// Obstacles of one cycle, on the stack.
+pub type Obstacles = ArrayVec<Obstacle, MAX_OBSTACLES>;
 
 /// The grid planner's settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -85,9 +92,10 @@ fn segment_distance(p: Own, a: Own, b: Own) -> f64 {
 
 /// An obstacle the robot already stands inside only keeps it from going deeper: its radius
 /// shrinks to just below the current distance, so the robot can walk out.
-fn effective(obstacles: &[Obstacle], me: Own) -> Vec<Obstacle> {
+fn effective(obstacles: &[Obstacle], me: Own) -> Obstacles {
     obstacles
         .iter()
+        .take(MAX_OBSTACLES)
         .map(|o| Obstacle {
             at: o.at,
             radius: o.radius.min(me.distance(o.at) - 0.02).max(0.0),
@@ -109,6 +117,7 @@ pub struct Planner {
     planned_for: Option<Own>,
     /// +1 or −1: the side the last detour went round, kept unless the other is much shorter.
     detour_side: f64,
+    grid: GridSearch,
 }
 
 impl Planner {
@@ -122,7 +131,7 @@ impl Planner {
         obstacles: &[Obstacle],
         now: f64,
     ) -> Own {
-        let near: Vec<Obstacle> = effective(obstacles, me)
+        let near: Obstacles = effective(obstacles, me)
             .into_iter()
             .filter(|o| {
                 o.radius > 0.0
@@ -145,7 +154,12 @@ impl Planner {
         }
         if self.path.is_empty() || !same_target || now - self.planned_at > params.grid.replan_s {
             let all = effective(obstacles, me);
-            self.path = plan_path(params, field, me, target, &all).unwrap_or_default();
+            if !self
+                .grid
+                .plan(params, field, me, target, &all, &mut self.path)
+            {
+                self.path.clear();
+            }
             self.planned_at = now;
             self.planned_for = Some(target);
         }
@@ -233,102 +247,139 @@ pub fn plan_path(
     target: Own,
     obstacles: &[Obstacle],
 ) -> Option<Vec<Own>> {
-    let g = &params.grid;
-    let border = field.geometry().border;
-    let (hx, hy) = (field.half_length() + border, field.half_width() + border);
-    let lo = Own::new(
-        (start.x.min(target.x) - g.margin_m).max(-hx),
-        (start.y.min(target.y) - g.margin_m).max(-hy),
-    );
-    let hi = Own::new(
-        (start.x.max(target.x) + g.margin_m).min(hx),
-        (start.y.max(target.y) + g.margin_m).min(hy),
-    );
-    let cell = g.cell_m.max(0.05);
-    let nx = (((hi.x - lo.x) / cell).ceil() as usize).max(1) + 1;
-    let ny = (((hi.y - lo.y) / cell).ceil() as usize).max(1) + 1;
-    if nx * ny > 250_000 {
-        return None;
-    }
-    let centre = |i: usize| Own::new(lo.x + (i % nx) as f64 * cell, lo.y + (i / nx) as f64 * cell);
-    let index = |p: Own| {
-        let ix = (((p.x - lo.x) / cell).round().max(0.0) as usize).min(nx - 1);
-        let iy = (((p.y - lo.y) / cell).round().max(0.0) as usize).min(ny - 1);
-        iy * nx + ix
-    };
-    let (from, to) = (index(start), index(target));
-    let blocked: Vec<bool> = (0..nx * ny)
-        .map(|i| {
+    let mut path = Vec::new();
+    GridSearch::default()
+        .plan(params, field, start, target, obstacles, &mut path)
+        .then_some(path)
+}
+
+/// The grid search's working memory, kept between plans: a plan runs during play, and
+/// allocating the grid each time put the heap on the per-cycle path.
+#[derive(Debug, Clone, Default)]
+struct GridSearch {
+    blocked: Vec<bool>,
+    best: Vec<f64>,
+    came_from: Vec<usize>,
+    open: BinaryHeap<Open>,
+}
+
+impl GridSearch {
+    /// As [`plan_path`], into `path`; `false` when no path exists.
+    fn plan(
+        &mut self,
+        params: &AvoidanceParams,
+        field: &Field,
+        start: Own,
+        target: Own,
+        obstacles: &[Obstacle],
+        path: &mut Vec<Own>,
+    ) -> bool {
+        path.clear();
+        let g = &params.grid;
+        let border = field.geometry().border;
+        let (hx, hy) = (field.half_length() + border, field.half_width() + border);
+        let lo = Own::new(
+            (start.x.min(target.x) - g.margin_m).max(-hx),
+            (start.y.min(target.y) - g.margin_m).max(-hy),
+        );
+        let hi = Own::new(
+            (start.x.max(target.x) + g.margin_m).min(hx),
+            (start.y.max(target.y) + g.margin_m).min(hy),
+        );
+        let cell = g.cell_m.max(0.05);
+        let nx = (((hi.x - lo.x) / cell).ceil() as usize).max(1) + 1;
+        let ny = (((hi.y - lo.y) / cell).ceil() as usize).max(1) + 1;
+        if nx * ny > 250_000 {
+            return false;
+        }
+        let centre =
+            |i: usize| Own::new(lo.x + (i % nx) as f64 * cell, lo.y + (i / nx) as f64 * cell);
+        let index = |p: Own| {
+            let ix = (((p.x - lo.x) / cell).round().max(0.0) as usize).min(nx - 1);
+            let iy = (((p.y - lo.y) / cell).round().max(0.0) as usize).min(ny - 1);
+            iy * nx + ix
+        };
+        let (from, to) = (index(start), index(target));
+        let Self {
+            blocked,
+            best,
+            came_from,
+            open,
+        } = self;
+        blocked.clear();
+        blocked.extend((0..nx * ny).map(|i| {
             let c = centre(i);
             i != from
                 && i != to
                 && obstacles
                     .iter()
                     .any(|o| o.radius > 0.0 && c.distance(o.at) < o.radius + g.inflation_m)
-        })
-        .collect();
-    let heuristic = |i: usize| {
-        let (dx, dy) = (
-            (i % nx).abs_diff(to % nx) as f64,
-            (i / nx).abs_diff(to / nx) as f64,
-        );
-        cell * (dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy))
-    };
-    let mut best = vec![f64::INFINITY; nx * ny];
-    let mut came_from = vec![usize::MAX; nx * ny];
-    let mut open = BinaryHeap::new();
-    best[from] = 0.0;
-    open.push(Open {
-        cost: heuristic(from),
-        cell: from,
-    });
-    while let Some(Open { cell: current, .. }) = open.pop() {
-        if current == to {
-            let mut path = vec![target];
-            let mut at = came_from[current];
-            while at != usize::MAX && at != from {
-                path.push(centre(at));
-                at = came_from[at];
+        }));
+        let heuristic = |i: usize| {
+            let (dx, dy) = (
+                (i % nx).abs_diff(to % nx) as f64,
+                (i / nx).abs_diff(to / nx) as f64,
+            );
+            cell * (dx.max(dy) + (std::f64::consts::SQRT_2 - 1.0) * dx.min(dy))
+        };
+        best.clear();
+        best.resize(nx * ny, f64::INFINITY);
+        came_from.clear();
+        came_from.resize(nx * ny, usize::MAX);
+        open.clear();
+        best[from] = 0.0;
+        open.push(Open {
+            cost: heuristic(from),
+            cell: from,
+        });
+        while let Some(Open { cell: current, .. }) = open.pop() {
+            if current == to {
+                path.push(target);
+                let mut at = came_from[current];
+                while at != usize::MAX && at != from {
+                    path.push(centre(at));
+                    at = came_from[at];
+                }
+                path.reverse();
+                return true;
             }
-            path.reverse();
-            return Some(path);
+            let (cx, cy) = ((current % nx) as i64, (current / nx) as i64);
+            for (dx, dy) in [
+                (1, 0),
+                (-1, 0),
+                (0, 1),
+                (0, -1),
+                (1, 1),
+                (1, -1),
+                (-1, 1),
+                (-1, -1),
+            ] {
+                let (x, y) = (cx + dx, cy + dy);
+                if x < 0 || y < 0 || x >= nx as i64 || y >= ny as i64 {
+                    continue;
+                }
+                let next = y as usize * nx + x as usize;
+                if blocked[next] {
+                    continue;
+                }
+                let step = if dx != 0 && dy != 0 {
+                    cell * std::f64::consts::SQRT_2
+                } else {
+                    cell
+                };
+                let cost = best[current] + step;
+                if cost < best[next] {
+                    best[next] = cost;
+                    came_from[next] = current;
+                    open.push(Open {
+                        cost: cost + heuristic(next),
+                        cell: next,
+                    });
+                }
+            }
         }
-        let (cx, cy) = ((current % nx) as i64, (current / nx) as i64);
-        for (dx, dy) in [
-            (1, 0),
-            (-1, 0),
-            (0, 1),
-            (0, -1),
-            (1, 1),
-            (1, -1),
-            (-1, 1),
-            (-1, -1),
-        ] {
-            let (x, y) = (cx + dx, cy + dy);
-            if x < 0 || y < 0 || x >= nx as i64 || y >= ny as i64 {
-                continue;
-            }
-            let next = y as usize * nx + x as usize;
-            if blocked[next] {
-                continue;
-            }
-            let step = if dx != 0 && dy != 0 {
-                cell * std::f64::consts::SQRT_2
-            } else {
-                cell
-            };
-            let cost = best[current] + step;
-            if cost < best[next] {
-                best[next] = cost;
-                came_from[next] = current;
-                open.push(Open {
-                    cost: cost + heuristic(next),
-                    cell: next,
-                });
-            }
-        }
+        false
     }
-    None
 }
 
 #[cfg(test)]

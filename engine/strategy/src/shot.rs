@@ -52,8 +52,11 @@ impl Default for ShotParams {
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Defenders {
     pub keeper: Option<Own>,
-    pub field_players: Vec<Own>,
+    pub field_players: arrayvec::ArrayVec<Own, MAX_DEFENDERS>,
 }
+
+/// The most opponents a shot's chance counts (11 a side).
+pub const MAX_DEFENDERS: usize = 11;
 
 /// A target and its scoring probability.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,16 +80,17 @@ fn within(mean: f64, sd: f64, lo: f64, hi: f64) -> f64 {
 
 impl ShotParams {
     /// The target points, from one post to the other (own frame, on the goal line).
-    pub fn targets(&self, field: &Field) -> Vec<Own> {
+    pub fn targets(&self, field: &Field) -> impl Iterator<Item = Own> {
         let x = field.half_length();
         let half = (field.goal_half_width() - self.post_margin_m).max(0.0);
         let n = self.targets.max(1);
-        if n == 1 {
-            return vec![Own::new(x, 0.0)];
-        }
-        (0..n)
-            .map(|i| Own::new(x, -half + 2.0 * half * i as f64 / (n - 1) as f64))
-            .collect()
+        (0..n).map(move |i| {
+            if n == 1 {
+                Own::new(x, 0.0)
+            } else {
+                Own::new(x, -half + 2.0 * half * i as f64 / (n - 1) as f64)
+            }
+        })
     }
 
     /// The probability that a long kick from `ball` aimed at `target` scores.
@@ -150,7 +154,6 @@ impl ShotParams {
         defenders: &Defenders,
     ) -> ShotChoice {
         self.targets(field)
-            .into_iter()
             .map(|target| ShotChoice {
                 target,
                 probability: self.probability(ball, target, field, kick, defenders),

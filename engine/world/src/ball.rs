@@ -15,7 +15,7 @@ use nalgebra::{Vector2, Vector3};
 use std::collections::VecDeque;
 
 /// Observations kept per track (a little more than 2 s of vision at 25 Hz).
-const TRACK_CAPACITY: usize = 64;
+pub(crate) const TRACK_CAPACITY: usize = 64;
 /// Faster than any kick [m/s]: a launch fit beyond it explains nothing.
 const MAX_BALL_SPEED: f64 = 15.0;
 /// Points needed before a track's fit says anything about launch speed or rest.
@@ -188,7 +188,7 @@ impl BallEstimate {
         };
         let at_rest = t.rest_position.is_some();
         if jumped || last.is_none() {
-            let mut carried = Vec::new();
+            let mut carried = arrayvec::ArrayVec::<_, TRACK_CAPACITY>::new();
             t.launch = match (last, predicted) {
                 (Some(_), Some(_)) if jumped && at_rest => {
                     // The frames that had already moved a little belong to the new path.
@@ -424,9 +424,10 @@ impl Tracker {
 
     fn fit(&mut self, now: f64) {
         let window = self.params.fit_window_s + 1e-6;
-        let points: Vec<(f64, Vector2<f64>)> = self
+        let points: arrayvec::ArrayVec<(f64, Vector2<f64>), TRACK_CAPACITY> = self
             .observations
             .iter()
+            .take(TRACK_CAPACITY)
             .filter(|(t, _)| now - t <= window)
             .map(|(t, p)| (t - now, p.xy()))
             .collect();

@@ -82,9 +82,10 @@ impl Tracker {
                 velocity.try_normalize(1e-6)?,
             )
         };
-        let along: Vec<(f64, f64)> = self
+        let along: arrayvec::ArrayVec<(f64, f64), { super::TRACK_CAPACITY }> = self
             .observations
             .iter()
+            .take(super::TRACK_CAPACITY)
             .map(|(t, p)| {
                 let d = p.xy() - start;
                 (

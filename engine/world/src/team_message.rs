@@ -10,6 +10,14 @@ use libero_model::{FieldGeometry, ServerKind};
 
 const PAYLOAD_BYTES: usize = 7;
 const MESSAGE_BYTES: usize = PAYLOAD_BYTES + 2;
+/// Base64 of a message (SimSpark's `say` takes text).
+const TEXT_BYTES: usize = 4 * MESSAGE_BYTES.div_ceil(3);
+
+/// The most bytes a player says in one cycle (what either server accepts fits).
+pub const SAID_MAX: usize = 32;
+
+/// What a player says, on the stack.
+pub type Said = arrayvec::ArrayVec<u8, SAID_MAX>;
 const POSITION_X_BITS: u32 = 10;
 const POSITION_Y_BITS: u32 = 9;
 /// How far beyond the lines positions are representable [m].
@@ -142,7 +150,7 @@ fn check(team: &str, payload: &[u8]) -> u16 {
 impl TeamMessage {
     /// The message as the server's `say` takes it: raw bytes on rcssservermj (the action
     /// writer sends them base64), base64 text on SimSpark.
-    pub fn encode(&self, team: &str, field: &FieldGeometry, server: ServerKind) -> Vec<u8> {
+    pub fn encode(&self, team: &str, field: &FieldGeometry, server: ServerKind) -> Said {
         let grid = Grid::of(field);
         let mut bits = Bits {
             bytes: [0; PAYLOAD_BYTES],
@@ -160,27 +168,37 @@ impl TeamMessage {
             .time_to_ball_s
             .map_or(none, |t| steps(t, TIME_STEP_S, TIME_BITS).min(none - 1));
         bits.put(time, TIME_BITS);
-        let mut bytes = bits.bytes.to_vec();
-        bytes.extend_from_slice(&check(team, &bits.bytes).to_be_bytes());
+        let mut bytes = [0u8; MESSAGE_BYTES];
+        bytes[..PAYLOAD_BYTES].copy_from_slice(&bits.bytes);
+        bytes[PAYLOAD_BYTES..].copy_from_slice(&check(team, &bits.bytes).to_be_bytes());
+        let mut said = Said::new();
         match server {
-            ServerKind::RcssMj => bytes,
-            ServerKind::SimSpark => base64::engine::general_purpose::STANDARD
-                .encode(bytes)
-                .into_bytes(),
+            ServerKind::RcssMj => said.extend(bytes),
+            ServerKind::SimSpark => {
+                let mut text = [0u8; TEXT_BYTES];
+                let written = base64::engine::general_purpose::STANDARD
+                    .encode_slice(bytes, &mut text)
+                    .unwrap_or(0);
+                said.extend(text[..written].iter().copied());
+            }
         }
+        said
     }
 
     /// A heard message's text (base64 on both servers) back to a message, when it is ours.
     pub fn decode(text: &str, team: &str, field: &FieldGeometry) -> Result<TeamMessage, Rejected> {
-        if text.len() > 4 * MESSAGE_BYTES.div_ceil(3) {
+        if text.len() > TEXT_BYTES {
             return Err(Rejected::Malformed);
         }
-        let bytes = base64::engine::general_purpose::STANDARD
-            .decode(text)
+        // Room for what any text of that length could decode to.
+        let mut decoded = [0u8; TEXT_BYTES];
+        let length = base64::engine::general_purpose::STANDARD
+            .decode_slice(text, &mut decoded)
             .map_err(|_| Rejected::Malformed)?;
-        if bytes.len() != MESSAGE_BYTES {
+        if length != MESSAGE_BYTES {
             return Err(Rejected::Malformed);
         }
+        let bytes = &decoded[..length];
         let (payload, sum) = bytes.split_at(PAYLOAD_BYTES);
         if check(team, payload).to_be_bytes() != sum {
             return Err(Rejected::Foreign);

@@ -93,7 +93,7 @@ fn strange_percepts_do_not_panic_or_produce_nan() {
         Percept {
             time: Some(1.0),
             vision: Some(Vision {
-                landmarks: vec![
+                landmarks: [
                     Seen {
                         name: "l_luf",
                         at: zero,
@@ -110,17 +110,23 @@ fn strange_percepts_do_not_panic_or_produce_nan() {
                         name: "g_rup",
                         at: weird,
                     },
-                ],
+                ]
+                .into_iter()
+                .collect(),
                 ball: Some(weird),
-                players: vec![SeenPlayer {
+                players: [SeenPlayer {
                     team: "Other",
                     unum: 3,
-                    parts: vec![Seen {
+                    parts: [Seen {
                         name: "head",
                         at: weird,
-                    }],
-                }],
-                lines: vec![],
+                    }]
+                    .into_iter()
+                    .collect(),
+                }]
+                .into_iter()
+                .collect(),
+                ..Vision::default()
             }),
             ..Default::default()
         },

@@ -270,26 +270,24 @@ fn replay(
     let players = (0..REPLAYS)
         .map(|_| build_player(model, "Libero", 1, source, skills))
         .collect::<Result<Vec<_>, _>>()?;
-    let thread = std::thread::Builder::new()
-        .name("replay-1".into())
-        .spawn({
-            let frames = frames.to_vec();
-            move || {
-                let before = threads_cpu("replay-");
-                let mut out = Vec::with_capacity(4096);
-                let mut stages = vec![("", 0u64); 5];
-                for mut player in players {
-                    for frame in &frames {
-                        out.clear();
-                        player.on_percept(frame, &mut out);
-                    }
-                    for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
-                        *sum = (name, sum.1 + ns);
-                    }
+    let thread = std::thread::Builder::new().name("replay-1".into()).spawn({
+        let frames = frames.to_vec();
+        move || {
+            let before = threads_cpu("replay-");
+            let mut out = Vec::with_capacity(4096);
+            let mut stages = vec![("", 0u64); 5];
+            for mut player in players {
+                for frame in &frames {
+                    out.clear();
+                    player.on_percept(frame, &mut out);
                 }
-                (threads_cpu("replay-") - before, stages)
+                for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
+                    *sum = (name, sum.1 + ns);
+                }
             }
-        })?;
+            (threads_cpu("replay-") - before, stages)
+        }
+    })?;
     let (cpu_s, stages) = thread.join().map_err(|_| "the replay panicked")?;
     Ok((1e6 * cpu_s / (frames.len() * REPLAYS).max(1) as f64, stages))
 }

@@ -23,6 +23,8 @@ pub enum Lying {
 #[derive(Debug, Clone)]
 pub struct GetUp {
     running: Option<Run>,
+    /// The last run's playhead, kept for the next one's memory.
+    spare: Option<Playhead>,
     /// Since when the fall detector has reported lying without a break [s].
     lying_since: Option<f64>,
 }
@@ -41,19 +43,44 @@ pub(crate) struct Playhead {
     pub(crate) frame: usize,
     pub(crate) frame_started_s: f64,
     pub(crate) from: Vec<f64>,
+    /// The current frame's target pose (working memory of [`step`]).
+    target: Vec<f64>,
     /// Since when the frame's `until` has held without a break.
     pub(crate) held_since: Option<f64>,
 }
 
 impl Playhead {
     /// At the first frame from `from` (usually the measured angles), now.
-    pub(crate) fn start(from: Vec<f64>, now: f64) -> Self {
-        Self {
+    pub(crate) fn start(from: &[f64], now: f64) -> Self {
+        let mut head = Self {
             frame: 0,
             frame_started_s: now,
-            from,
+            from: Vec::new(),
+            target: Vec::new(),
+            held_since: None,
+        };
+        head.restart(from, now);
+        head
+    }
+
+    /// A playhead with room for `joints` joints, for motions started later during play.
+    pub(crate) fn with_room(joints: usize) -> Self {
+        Self {
+            frame: 0,
+            frame_started_s: 0.0,
+            from: Vec::with_capacity(joints),
+            target: Vec::with_capacity(joints),
             held_since: None,
         }
+    }
+
+    /// As [`Playhead::start`], in this playhead's memory (a motion starts during play).
+    pub(crate) fn restart(&mut self, from: &[f64], now: f64) {
+        self.frame = 0;
+        self.frame_started_s = now;
+        self.from.clear();
+        self.from.extend_from_slice(from);
+        self.held_since = None;
     }
 }
 
@@ -62,7 +89,7 @@ impl Playhead {
 enum Motion {
     Front,
     Back,
-    Recover(String),
+    Recover(std::sync::Arc<str>),
 }
 
 impl Motion {
@@ -78,7 +105,7 @@ impl Motion {
         match self {
             Motion::Front => &p.front,
             Motion::Back => &p.back,
-            Motion::Recover(name) => p.recover.get(name).map_or(&[], Vec::as_slice),
+            Motion::Recover(name) => p.recover.get(&**name).map_or(&[], Vec::as_slice),
         }
     }
 }
@@ -87,8 +114,15 @@ impl GetUp {
     pub fn new() -> Self {
         Self {
             running: None,
+            spare: None,
             lying_since: None,
         }
+    }
+
+    /// Make room for a robot of `joints` joints now rather than at the first fall.
+    pub fn with_room(mut self, joints: usize) -> Self {
+        self.spare = Some(Playhead::with_room(joints));
+        self
     }
 
     pub fn is_running(&self) -> bool {
@@ -131,9 +165,16 @@ impl GetUp {
             let Some(lying) = lying.filter(|_| settled || requested) else {
                 return false;
             };
+            let head = match self.spare.take() {
+                Some(mut head) => {
+                    head.restart(&world.body.joint_angles, world.time);
+                    head
+                }
+                None => Playhead::start(&world.body.joint_angles, world.time),
+            };
             self.running = Some(Run {
                 motion: Motion::of(lying),
-                head: Playhead::start(world.body.joint_angles.clone(), world.time),
+                head,
             });
         }
         let run = self.running.as_mut().expect("started above");
@@ -149,7 +190,7 @@ impl GetUp {
                 // The roll is over (its last frame waited for face down): on into the
                 // front motion, from the pose the roll ended in.
                 (Motion::Back, Some(k)) => run.switch_to(Motion::Front, k, world.time),
-                _ => self.running = None,
+                _ => self.finish(),
             },
             // A sensed condition never came: play the frame's recovery motion from the pose
             // held now, or, without one, start over next cycle from the new posture if still
@@ -157,9 +198,13 @@ impl GetUp {
             Step::TimedOut(Some(recovery)) => {
                 run.switch_to(Motion::Recover(recovery), 0, world.time)
             }
-            Step::TimedOut(None) => self.running = None,
+            Step::TimedOut(None) => self.finish(),
         }
         true
+    }
+
+    fn finish(&mut self) {
+        self.spare = self.running.take().map(|run| run.head);
     }
 
     /// The recovery motion being played, if any (for traces and tests).
@@ -191,17 +236,17 @@ pub(crate) enum Step {
     Playing,
     Ended,
     /// A frame's `until` did not come in time; its `on_timeout` motion, if it has one.
-    TimedOut(Option<String>),
+    TimedOut(Option<std::sync::Arc<str>>),
 }
 
-fn target_of(frame: &Keyframe, from: &[f64], model: &RobotModel) -> Vec<f64> {
-    let mut target = from.to_vec();
+fn target_of(frame: &Keyframe, from: &[f64], model: &RobotModel, target: &mut Vec<f64>) {
+    target.clear();
+    target.extend_from_slice(from);
     for (joint, &angle) in &frame.pose {
         if let Some(id) = model.joint_id(joint) {
             target[id] = angle;
         }
     }
-    target
 }
 
 /// Advance `run` to `now` and write its pose: frames end after `duration_s`, or for a frame
@@ -219,7 +264,8 @@ pub(crate) fn step(
             pose.copy_from_slice(&run.from);
             return Step::Ended;
         };
-        let target = target_of(frame, &run.from, model);
+        target_of(frame, &run.from, model, &mut run.target);
+        let target = &run.target;
         let t = now - run.frame_started_s;
         let done = t >= frame.duration_s
             && match frame.until {
@@ -231,8 +277,8 @@ pub(crate) fn step(
                         .held_since
                         .is_some_and(|since| now - since >= frame.hold_s - 1e-6);
                     if !held && t >= frame.duration_s + frame.timeout_s {
-                        pose.copy_from_slice(&target);
-                        run.from = target;
+                        pose.copy_from_slice(target);
+                        run.from.copy_from_slice(target);
                         return Step::TimedOut(frame.on_timeout.clone());
                     }
                     held
@@ -241,7 +287,7 @@ pub(crate) fn step(
         if !done {
             let s = (t / frame.duration_s).clamp(0.0, 1.0);
             let w = s * s * (3.0 - 2.0 * s);
-            for ((q, a), b) in pose.iter_mut().zip(&run.from).zip(&target) {
+            for ((q, a), b) in pose.iter_mut().zip(&run.from).zip(target) {
                 *q = a + (b - a) * w;
             }
             return Step::Playing;
@@ -253,7 +299,7 @@ pub(crate) fn step(
             run.frame_started_s + frame.duration_s
         };
         run.frame += 1;
-        run.from = target;
+        run.from.copy_from_slice(&run.target);
         run.held_since = None;
     }
 }
@@ -266,12 +312,15 @@ fn balance(b: &GetUpBalance, a: &Attitude, lean_deg: f64, model: &RobotModel, po
     // Leaning too far forward: toes down (ankle +) and hips back (hip pitch +) push it back.
     let ankle = limit(b.ankle_per_deg * error + b.ankle_per_gyro * rate);
     let hip = limit(b.hip_per_deg * error + b.hip_per_gyro * rate);
-    for side in ["left", "right"] {
-        for (joint, offset) in [("ankle_pitch", ankle), ("hip_pitch", hip)] {
-            if let Some(id) = model.joint_id(&format!("{side}_{joint}")) {
-                let (lo, hi) = model.joints[id].limits_deg;
-                pose[id] = (pose[id] + offset).clamp(lo, hi);
-            }
+    for (joint, offset) in [
+        ("left_ankle_pitch", ankle),
+        ("right_ankle_pitch", ankle),
+        ("left_hip_pitch", hip),
+        ("right_hip_pitch", hip),
+    ] {
+        if let Some(id) = model.joint_id(joint) {
+            let (lo, hi) = model.joints[id].limits_deg;
+            pose[id] = (pose[id] + offset).clamp(lo, hi);
         }
     }
 }

@@ -31,7 +31,8 @@ pub struct Keyframe {
     /// from the pose held then (e.g. a slow rise from a squat the pop left leaning forward),
     /// instead of starting over from the ground.
     #[serde(default)]
-    pub on_timeout: Option<String>,
+    /// Shared: a timeout during play hands the name on without copying it.
+    pub on_timeout: Option<std::sync::Arc<str>>,
     /// Torso pitch [deg, + nose down] this frame should end at; when given, the ankles and
     /// hips push against the measured deviation (`get_up.balance`) during the frame.
     #[serde(default)]
@@ -249,7 +250,7 @@ pub(crate) fn validate_frames(
                     "{at}.on_timeout: this motion has no recovery motions to switch to"
                 ));
             };
-            if !recover.contains_key(next) {
+            if !recover.contains_key(&**next) {
                 let known: Vec<&str> = recover.keys().map(String::as_str).collect();
                 return Err(format!(
                     "{at}.on_timeout: no motion `{next}` in get_up.recover (it has: {})",

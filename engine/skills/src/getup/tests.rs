@@ -57,7 +57,7 @@ impl Driven {
 }
 
 fn start(model: &RobotModel) -> Playhead {
-    Playhead::start(vec![0.0; model.joints.len()], 0.0)
+    Playhead::start(&vec![0.0; model.joints.len()], 0.0)
 }
 
 fn pitched(deg: f64) -> Sensed {
@@ -218,7 +218,7 @@ fn a_timed_out_wait_switches_to_its_recovery_motion_from_the_held_pose() {
     let mut p = builtin_get_up();
     let mut squat = frame(0.1, 120.0, Some(Condition::UprightWithin(15.0)));
     squat.timeout_s = 0.2;
-    squat.on_timeout = Some("rise_slowly".to_string());
+    squat.on_timeout = Some("rise_slowly".into());
     p.front = vec![squat, frame(0.1, 0.0, None)];
     p.recover = BTreeMap::from([("rise_slowly".to_string(), vec![frame(0.4, 40.0, None)])]);
     let mut r = Driven::lying(p, Posture::FallenFront, [-9.81, 0.0, 0.0]);
@@ -243,14 +243,14 @@ fn validation_names_an_unknown_recovery_motion() {
     let model = RobotModel::builtin("T1").unwrap();
     let mut p = crate::SkillParams::builtin(&model).unwrap().get_up;
     let k = p.front.iter().position(|f| f.until.is_some()).unwrap();
-    p.front[k].on_timeout = Some("sit_down".to_string());
+    p.front[k].on_timeout = Some("sit_down".into());
     let err = p.validate(&model).unwrap_err();
     assert!(
         err.contains(&format!("get_up.front[{k}].on_timeout")) && err.contains("sit_down"),
         "{err}"
     );
     p.front[k].on_timeout = None;
-    p.front[0].on_timeout = Some("sit_down".to_string());
+    p.front[0].on_timeout = Some("sit_down".into());
     if p.front[0].until.is_none() {
         assert!(p.validate(&model).unwrap_err().contains("no `until`"));
     }

@@ -453,26 +453,12 @@ impl Kick {
         pose.copy_from_slice(&self.angles);
     }
 
-    /// Gains of the kicking leg during the swing: `(joint name, kp, kd)`.
-    pub fn swing_gains<'a>(
-        &'a self,
-        now: f64,
-        k: &'a KickParams,
-    ) -> impl Iterator<Item = (String, f64, f64)> + 'a {
-        let active = self.swinging(now);
-        let (foot, long) = self
-            .running
-            .as_ref()
-            .map_or((Foot::Left, false), |r| (r.plan.foot, r.long));
-        let side = match foot {
-            Foot::Left => "left",
-            Foot::Right => "right",
-        };
-        let m = if long { &k.long } else { &k.short };
-        m.swing_gains
-            .iter()
-            .filter(move |_| active)
-            .map(move |(joint, g)| (format!("{side}_{joint}"), g.kp, g.kd))
+    /// The kicking foot and whether the kick is long, while the swing is on (the kicking
+    /// leg is stiffened then).
+    pub fn swinging_with(&self, now: f64) -> Option<(Foot, bool)> {
+        let running = self.running.as_ref()?;
+        self.swinging(now)
+            .then_some((running.plan.foot, running.long))
     }
 }
 

@@ -165,8 +165,9 @@ pub struct KickMotion {
     pub stance_roll_per_gyro: f64,
     pub stance_max_correction_deg: f64,
     /// Motor gains of the kicking leg's joints during the swing (`hip_pitch`, …); unlisted
-    /// joints keep the walk's leg gains.
-    pub swing_gains: BTreeMap<String, Gains>,
+    /// joints keep the walk's leg gains. Shared: a kick's plan copies its motion, and that
+    /// copy happens during play.
+    pub swing_gains: std::sync::Arc<BTreeMap<String, Gains>>,
 }
 
 /// kd beyond which the server's explicit Euler integration goes unstable on the T1's legs
@@ -290,7 +291,7 @@ impl KickMotion {
             0.0,
             30.0,
         )?;
-        for (joint, g) in &self.swing_gains {
+        for (joint, g) in self.swing_gains.iter() {
             in_range(&p(&format!("swing_gains.{joint}.kp")), g.kp, 0.0, MAX_KP)?;
             in_range(&p(&format!("swing_gains.{joint}.kd")), g.kd, 0.0, MAX_KD)?;
         }

@@ -38,6 +38,24 @@ pub enum SaveState {
     Done(DiveSide),
 }
 
+/// A save's motions by dive side, ready to play: built when the parameters load, because the
+/// mirrored right dive is a new list of key frames.
+#[derive(Debug, Clone, Default)]
+pub struct SaveMotions {
+    frames: [Vec<Keyframe>; 3],
+}
+
+impl SaveMotions {
+    pub fn of(&self, side: DiveSide) -> &[Keyframe] {
+        let index = match side {
+            DiveSide::Left => 0,
+            DiveSide::Right => 1,
+            DiveSide::Centre => 2,
+        };
+        &self.frames[index]
+    }
+}
+
 /// The save motions.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
 pub struct SaveParams {
@@ -68,6 +86,14 @@ impl SaveParams {
                 Some(frames) => Cow::Borrowed(frames),
                 None => Cow::Owned(self.left.iter().map(mirror_frame).collect()),
             },
+        }
+    }
+
+    /// The three motions as played (the mirrored right dive built now, once).
+    pub fn motions(&self) -> SaveMotions {
+        SaveMotions {
+            frames: [DiveSide::Left, DiveSide::Right, DiveSide::Centre]
+                .map(|side| self.motion(side).into_owned()),
         }
     }
 
@@ -166,12 +192,20 @@ const FIRST_STEP_S: f64 = 0.02;
 #[derive(Debug, Clone, Default)]
 pub struct Save {
     running: Option<(DiveSide, Playhead)>,
+    /// The last dive's playhead, kept for the next one's memory.
+    spare: Option<Playhead>,
     state: SaveState,
 }
 
 impl Save {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Make room for a robot of `joints` joints now rather than at the first dive.
+    pub fn with_room(mut self, joints: usize) -> Self {
+        self.spare = Some(Playhead::with_room(joints));
+        self
     }
 
     pub fn state(&self) -> SaveState {
@@ -196,7 +230,7 @@ impl Save {
         world: &World,
         requested: Option<DiveSide>,
         may_start: bool,
-        p: &SaveParams,
+        motions: &SaveMotions,
         model: &RobotModel,
         pose: &mut [f64],
     ) -> bool {
@@ -205,12 +239,17 @@ impl Save {
                 (_, None) => self.state = SaveState::Idle,
                 // Held after the end: not a new request.
                 (SaveState::Done(_), Some(_)) => {}
-                (_, Some(side)) if may_start && !p.motion(side).is_empty() => {
+                (_, Some(side)) if may_start && !motions.of(side).is_empty() => {
                     // One cycle in already: the targets sent this cycle move.
-                    self.running = Some((
-                        side,
-                        Playhead::start(world.body.joint_angles.clone(), world.time - FIRST_STEP_S),
-                    ));
+                    let started = world.time - FIRST_STEP_S;
+                    let head = match self.spare.take() {
+                        Some(mut head) => {
+                            head.restart(&world.body.joint_angles, started);
+                            head
+                        }
+                        None => Playhead::start(&world.body.joint_angles, started),
+                    };
+                    self.running = Some((side, head));
                     self.state = SaveState::Diving(side);
                 }
                 (_, Some(_)) => {}
@@ -220,14 +259,14 @@ impl Save {
             return false;
         };
         let side = *side;
-        let motion = p.motion(side);
+        let motion = motions.of(side);
         let sensed = Sensed::from_body(&world.body);
-        match getup::step(head, &motion, world.time, &sensed, model, pose) {
+        match getup::step(head, motion, world.time, &sensed, model, pose) {
             Step::Playing => {}
             // A sensed condition that never came ends the save where it is, too: a save
             // cannot start over.
             Step::Ended | Step::TimedOut(_) => {
-                self.running = None;
+                self.spare = self.running.take().map(|(_, head)| head);
                 self.state = SaveState::Done(side);
             }
         }

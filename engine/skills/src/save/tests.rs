@@ -160,7 +160,7 @@ impl Driven {
             &self.world,
             request,
             true,
-            &self.p,
+            &self.p.motions(),
             &self.model,
             &mut self.pose,
         )
@@ -214,7 +214,7 @@ fn a_save_does_not_start_when_it_may_not_or_has_no_motion() {
         &d.world,
         Some(DiveSide::Centre),
         false,
-        &d.p,
+        &d.p.motions(),
         &d.model,
         &mut d.pose,
     );

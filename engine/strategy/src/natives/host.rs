@@ -105,12 +105,12 @@ impl AgentHost<'_> {
 
 impl AgentHost<'_> {
     /// What to walk round: robots seen lately, the goal posts, and the ball when given.
-    pub(crate) fn obstacles(&self, ball: Option<Own>) -> Vec<crate::avoidance::Obstacle> {
+    pub(crate) fn obstacles(&self, ball: Option<Own>) -> crate::avoidance::Obstacles {
         use crate::avoidance::Obstacle;
         let avoidance = self.strategy.avoidance.unwrap_or_default();
         let field = self.strategy.field();
         let world = self.world;
-        let mut out: Vec<Obstacle> = world
+        let mut out: crate::avoidance::Obstacles = world
             .players
             .known
             .iter()
@@ -122,6 +122,8 @@ impl AgentHost<'_> {
                 at: self.own_of(p.position),
                 radius: avoidance.robot_clearance_m,
             })
+            // Room for the posts and the ball.
+            .take(crate::avoidance::MAX_OBSTACLES - 5)
             .collect();
         let (x, y) = (field.half_length(), field.goal_half_width());
         for (px, py) in [(x, y), (x, -y), (-x, y), (-x, -y)] {

@@ -79,12 +79,14 @@ impl AgentHost<'_> {
         let field = self.strategy.field();
         let goal = Own::new(field.half_length(), 0.0);
         let (depth, half_width) = field.goal_area();
-        let mut opponents: Vec<Own> = self
+        // One more than the defenders counted: the keeper is taken out of them.
+        let mut opponents: arrayvec::ArrayVec<Own, { crate::shot::MAX_DEFENDERS + 1 }> = self
             .world
             .players
             .of(Relation::Opponent)
             .filter(|p| !p.fallen && p.age(self.world.time) < 3.0)
             .map(|p| self.own_of(p.position))
+            .take(crate::shot::MAX_DEFENDERS + 1)
             .collect();
         let keeper = opponents
             .iter()
@@ -95,7 +97,10 @@ impl AgentHost<'_> {
         let keeper = keeper.map(|i| opponents.swap_remove(i));
         Defenders {
             keeper,
-            field_players: opponents,
+            field_players: opponents
+                .into_iter()
+                .take(crate::shot::MAX_DEFENDERS)
+                .collect(),
         }
     }
 

@@ -2,8 +2,9 @@
 //! for the ball (the predicted time to reach it, this player's against its teammates' claims).
 
 use super::{AgentHost, Native, Ports};
-use crate::roles::{Candidate, Slot};
+use crate::roles::{Candidate, Slot, MAX_PLAYERS};
 use crate::Situation;
+use arrayvec::ArrayVec;
 use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType};
 use libero_world::team_message::TIME_TO_BALL_MAX_S;
 use libero_world::{Own, Relation};
@@ -88,7 +89,8 @@ fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
     );
     host.memory.time_to_ball.set(Some(mine));
     let now = world.time;
-    let claims: Vec<(u32, Option<f64>)> = world.heard.recent_claims(now).collect();
+    let claims: ArrayVec<(u32, Option<f64>), MAX_PLAYERS> =
+        world.heard.recent_claims(now).take(MAX_PLAYERS).collect();
     let others = world
         .players
         .of(Relation::Teammate)
@@ -157,7 +159,7 @@ impl AgentHost<'_> {
         };
         let ball_at = self.ball();
         let ball = super::host::value(ball_at);
-        let mut slots: Vec<Slot> = formation
+        let mut slots: ArrayVec<Slot, MAX_PLAYERS> = formation
             .roles
             .iter()
             .filter(|r| r.unum != 1)
@@ -167,6 +169,7 @@ impl AgentHost<'_> {
                     at: super::host::own(formation.position(r.unum, ball)?),
                 })
             })
+            .take(MAX_PLAYERS)
             .collect();
         // The ball winner goes for the ball: it takes the slot nearest the ball, and the others
         // share the rest, so the slots ahead of the ball stay held when it kicks long.
@@ -187,7 +190,7 @@ impl AgentHost<'_> {
             return winner_slot.unwrap_or(unum);
         }
         let world = self.world;
-        let candidates: Vec<Candidate> = formation
+        let candidates: ArrayVec<Candidate, MAX_PLAYERS> = formation
             .roles
             .iter()
             .map(|r| r.unum)
@@ -209,6 +212,7 @@ impl AgentHost<'_> {
                 };
                 Candidate { unum: player, at }
             })
+            .take(MAX_PLAYERS)
             .collect();
         let mut roles = self.memory.roles.borrow_mut();
         roles.update(&candidates, &slots, ROLE_HYSTERESIS_M2);

@@ -25,12 +25,12 @@ fn players_take_the_positions_nearest_them_overall() {
     // Player 2 stands where 3's slot is and vice versa: they swap rather than cross the field.
     let c = candidates(&[(2, 0.0, 10.0), (3, 0.0, -10.0), (4, 5.0, 0.0)]);
     let s = slots(&[(2, 0.0, -9.0), (3, 0.0, 9.0), (4, 6.0, 0.0)]);
-    assert_eq!(assign(&c, &s), Some(vec![1, 0, 2]));
+    assert_eq!(assign(&c, &s).as_deref(), Some(&[1, 0, 2][..]));
     // The sum of squares is least, not each player greedily: player 4 is nearest the slot at
     // (1, 0) but leaving it to player 2 saves more overall.
     let c = candidates(&[(2, 0.0, 0.0), (4, 2.0, 0.0)]);
     let s = slots(&[(2, 1.0, 0.0), (4, 10.0, 0.0)]);
-    assert_eq!(assign(&c, &s), Some(vec![0, 1]));
+    assert_eq!(assign(&c, &s).as_deref(), Some(&[0, 1][..]));
 }
 
 #[test]
@@ -64,4 +64,31 @@ fn a_near_tie_does_not_flip_the_roles_back_and_forth() {
         .to_vec();
     assert_eq!(swapped, vec![(2, 3), (3, 2)]);
     assert_eq!(roles.slot_of(2), Some(3));
+}
+
+proptest::proptest! {
+    /// The stack-only Hungarian method finds an optimum as good as a general-purpose solver's
+    /// (the assignments may differ on ties; the total cost may not).
+    #[test]
+    fn the_assignment_is_optimal(
+        points in proptest::collection::vec((-30.0f64..30.0, -20.0f64..20.0, -30.0f64..30.0, -20.0f64..20.0), 1..=MAX_PLAYERS)
+    ) {
+        let c: Vec<Candidate> = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Candidate { unum: i as u8 + 2, at: Own::new(p.0, p.1) })
+            .collect();
+        let s: Vec<Slot> = points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Slot { default_unum: i as u8 + 2, at: Own::new(p.2, p.3) })
+            .collect();
+        let ours = assign(&c, &s).unwrap();
+        let mut sorted = ours.clone();
+        sorted.sort_unstable();
+        proptest::prop_assert!(sorted.iter().copied().eq(0..c.len()), "a permutation: {:?}", ours);
+        let weights = pathfinding::prelude::Matrix::from_fn(c.len(), s.len(), |(i, j)| cost(c[i].at, s[j].at));
+        let (best, _) = pathfinding::prelude::kuhn_munkres_min(&weights);
+        proptest::prop_assert_eq!(total_cost(&c, &s, &ours), best);
+    }
 }

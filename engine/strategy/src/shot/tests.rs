@@ -43,7 +43,7 @@ fn keeper_in_the_middle_sends_the_best_shot_to_a_corner() {
     let ball = Own::new(19.5, 0.0);
     let keeper = Defenders {
         keeper: Some(Own::new(27.0, 0.0)),
-        field_players: vec![],
+        field_players: Default::default(),
     };
     let best = p.best(ball, &field(), &spread(2.0), &keeper);
     assert!(best.target.y.abs() > 1.0, "{best:?}");
@@ -53,7 +53,7 @@ fn keeper_in_the_middle_sends_the_best_shot_to_a_corner() {
     // A keeper standing at the left post leaves the right side open.
     let left_keeper = Defenders {
         keeper: Some(Own::new(27.0, 1.5)),
-        field_players: vec![],
+        field_players: Default::default(),
     };
     let best = p.best(ball, &field(), &spread(2.0), &left_keeper);
     assert!(best.target.y < -0.5, "{best:?}");
@@ -66,7 +66,7 @@ fn a_defender_on_the_line_blocks_and_out_of_range_is_zero() {
     let target = Own::new(27.5, 0.0);
     let wall = Defenders {
         keeper: None,
-        field_players: vec![Own::new(23.0, 0.0)],
+        field_players: [Own::new(23.0, 0.0)].into_iter().collect(),
     };
     let blocked = p.probability(ball, target, &field(), &spread(2.0), &wall);
     assert!(blocked < 0.05, "{blocked}");
