@@ -231,8 +231,11 @@ const RECORDED_MAX: usize = 3000;
 /// How often the replay runs the recording (each time on a fresh player).
 const REPLAYS: usize = 5;
 
-fn stage_totals(team: &Team) -> Vec<(&'static str, u64)> {
-    let mut sums: Vec<(&'static str, u64)> = Vec::new();
+/// (stage, total ns) in pipe order.
+type StageSums = Vec<(&'static str, u64)>;
+
+fn stage_totals(team: &Team) -> StageSums {
+    let mut sums: StageSums = Vec::new();
     for (_, stats) in &team.stats {
         for (i, (name, ns)) in stats.stages.totals().into_iter().enumerate() {
             match sums.get_mut(i) {
@@ -266,7 +269,7 @@ fn replay(
     model: &std::sync::Arc<libero_model::RobotModel>,
     source: &libero_agent::LibrarySource,
     skills: &libero_agent::SkillSource,
-) -> Result<(f64, Vec<(&'static str, u64)>), Box<dyn std::error::Error>> {
+) -> Result<(f64, StageSums), Box<dyn std::error::Error>> {
     let players = (0..REPLAYS)
         .map(|_| build_player(model, "Libero", 1, source, skills))
         .collect::<Result<Vec<_>, _>>()?;
