@@ -139,7 +139,7 @@ fn a_steady_state_cycle_allocates_nothing() {
             None => sites.push((1, site.clone())),
         }
     }
-    sites.sort_by(|a, b| b.0.cmp(&a.0));
+    sites.sort_by_key(|s| std::cmp::Reverse(s.0));
     for (n, site) in &sites {
         eprintln!("{n:5} × {site}");
     }
