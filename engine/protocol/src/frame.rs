@@ -22,17 +22,25 @@ pub enum FrameError {
 
 /// Reads whole frames from a byte stream, however the bytes are split across reads.
 ///
-/// A read that times out (`WouldBlock`/`TimedOut`) keeps what was already read, so a socket
-/// with a short read timeout can be polled without losing its place in the stream. The buffer
-/// is reused between frames, so steady-state reading does not allocate.
+/// Each read asks for as much as the buffer holds, so a frame that has arrived whole comes in
+/// one read (length prefix and payload together, and the start of the next frame if it is
+/// there too) instead of one read for the prefix and one for the payload. A read that times
+/// out (`WouldBlock`/`TimedOut`) keeps what was already read, so a socket with a short read
+/// timeout can be polled without losing its place in the stream. The buffer is reused, so
+/// steady-state reading does not allocate.
 pub struct FrameReader<R> {
     inner: R,
+    /// Received bytes live in `buf[start..end]`; the buffer's length is its usable size.
     buf: Vec<u8>,
+    start: usize,
+    end: usize,
+    /// Bytes of the frame handed out last, dropped at the next call.
+    handed_out: usize,
     max: usize,
-    header: [u8; 4],
-    /// Bytes of the current frame read so far (header first, then payload).
-    filled: usize,
 }
+
+/// What one read asks for at least: percepts are 1–25 kB.
+const READ_SIZE: usize = 64 * 1024;
 
 impl<R: Read> FrameReader<R> {
     pub fn new(inner: R) -> Self {
@@ -42,10 +50,11 @@ impl<R: Read> FrameReader<R> {
     pub fn with_limit(inner: R, max: usize) -> Self {
         Self {
             inner,
-            buf: Vec::with_capacity(4096),
+            buf: vec![0; READ_SIZE],
+            start: 0,
+            end: 0,
+            handed_out: 0,
             max,
-            header: [0; 4],
-            filled: 0,
         }
     }
 
@@ -55,35 +64,45 @@ impl<R: Read> FrameReader<R> {
 
     /// Block until the next whole frame has arrived and return its payload.
     pub fn read_frame(&mut self) -> Result<&[u8], FrameError> {
-        while self.filled < 4 {
-            match self.inner.read(&mut self.header[self.filled..]) {
-                Ok(0) if self.filled == 0 => return Err(FrameError::Closed),
-                Ok(0) => return Err(FrameError::Truncated(self.filled, 4)),
-                Ok(n) => self.filled += n,
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(FrameError::Io(e)),
-            }
-            if self.filled == 4 {
-                let len = u32::from_be_bytes(self.header) as usize;
+        self.start += std::mem::take(&mut self.handed_out);
+        loop {
+            let held = self.end - self.start;
+            let wanted = if held >= 4 {
+                let header: [u8; 4] = self.buf[self.start..self.start + 4]
+                    .try_into()
+                    .expect("four bytes");
+                let len = u32::from_be_bytes(header) as usize;
                 if len > self.max {
-                    self.filled = 0;
+                    // The stream has lost its framing: nothing after this can be trusted.
+                    self.start = self.end;
                     return Err(FrameError::TooLarge(len, self.max));
                 }
-                self.buf.clear();
-                self.buf.resize(len, 0);
+                if held >= 4 + len {
+                    self.handed_out = 4 + len;
+                    return Ok(&self.buf[self.start + 4..self.start + 4 + len]);
+                }
+                4 + len
+            } else {
+                4
+            };
+            // Room for the rest of this frame after the bytes held, at the buffer's front.
+            if self.start > 0 {
+                self.buf.copy_within(self.start..self.end, 0);
+                self.end -= self.start;
+                self.start = 0;
             }
-        }
-        let len = self.buf.len();
-        while self.filled - 4 < len {
-            match self.inner.read(&mut self.buf[self.filled - 4..]) {
-                Ok(0) => return Err(FrameError::Truncated(self.filled - 4, len)),
-                Ok(n) => self.filled += n,
+            if self.buf.len() < wanted {
+                self.buf.resize(wanted, 0);
+            }
+            match self.inner.read(&mut self.buf[self.end..]) {
+                Ok(0) if held == 0 => return Err(FrameError::Closed),
+                Ok(0) if held < 4 => return Err(FrameError::Truncated(held, 4)),
+                Ok(0) => return Err(FrameError::Truncated(held - 4, wanted - 4)),
+                Ok(n) => self.end += n,
                 Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
                 Err(e) => return Err(FrameError::Io(e)),
             }
         }
-        self.filled = 0;
-        Ok(&self.buf)
     }
 }
 
@@ -133,6 +152,54 @@ mod tests {
         assert_eq!(reader.read_frame().unwrap(), b"(time (now 1.00))");
         assert_eq!(reader.read_frame().unwrap(), b"(syn)");
         assert!(matches!(reader.read_frame(), Err(FrameError::Closed)));
+    }
+
+    /// Counts the reads it serves (whole chunks of what it holds).
+    struct Counted<'a> {
+        data: &'a [u8],
+        reads: usize,
+    }
+
+    impl Read for Counted<'_> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            self.reads += 1;
+            let n = buf.len().min(self.data.len());
+            buf[..n].copy_from_slice(&self.data[..n]);
+            self.data = &self.data[n..];
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn a_frame_that_has_arrived_whole_takes_one_read() {
+        let payload = vec![b'x'; 3000];
+        let mut wire = Vec::new();
+        encode_frame(&payload, &mut wire);
+        let mut reader = FrameReader::new(Counted {
+            data: &wire,
+            reads: 0,
+        });
+        assert_eq!(reader.read_frame().unwrap(), &payload[..]);
+        assert_eq!(reader.get_ref().reads, 1);
+        // Several frames in one read are handed out one by one without reading again.
+        let mut wire = Vec::new();
+        for i in 0..5u8 {
+            encode_frame(&[b'a' + i; 10], &mut wire);
+        }
+        let mut reader = FrameReader::new(Counted {
+            data: &wire,
+            reads: 0,
+        });
+        for i in 0..5u8 {
+            assert_eq!(reader.read_frame().unwrap(), &[b'a' + i; 10]);
+        }
+        assert_eq!(reader.get_ref().reads, 1);
+        // A frame larger than the buffer grows it.
+        let big = vec![b'y'; 3 * READ_SIZE];
+        let mut wire = Vec::new();
+        encode_frame(&big, &mut wire);
+        let mut reader = FrameReader::new(&wire[..]);
+        assert_eq!(reader.read_frame().unwrap(), &big[..]);
     }
 
     #[test]

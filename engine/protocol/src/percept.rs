@@ -206,10 +206,10 @@ pub fn parse_percept_str(text: &str, server: ServerKind) -> Result<Percept<'_>, 
             "HJ" => read_joint(list).is_some_and(|j| p.joints.try_push(j).is_ok()),
             "FRP" => read_foot(list, server).is_some_and(|f| p.foot_contacts.try_push(f).is_ok()),
             "See" => {
-                let vision = read_vision(list);
-                let whole = !vision.overflowed;
-                p.vision = Some(vision);
-                whole
+                // Filled where it lies: a vision frame is kilobytes on the stack.
+                let vision = p.vision.insert(Vision::default());
+                read_vision(list, vision);
+                !vision.overflowed
             }
             "MIC" => read_mic(list, &mut p.heard),
             "hear" => read_hear(list).is_some_and(|h| p.heard.try_push(h).is_ok()),
@@ -284,8 +284,7 @@ fn read_polar(list: List<'_>) -> Option<Polar> {
     })
 }
 
-fn read_vision(list: List<'_>) -> Vision<'_> {
-    let mut vision = Vision::default();
+fn read_vision<'a>(list: List<'a>, vision: &mut Vision<'a>) {
     for item in list.tail().filter_map(|c| c.as_list()) {
         match item.head() {
             Some("P") => {
@@ -311,7 +310,6 @@ fn read_vision(list: List<'_>) -> Vision<'_> {
             None => {}
         }
     }
-    vision
 }
 
 fn read_player(list: List<'_>) -> Option<SeenPlayer<'_>> {

@@ -229,7 +229,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
 /// Percepts agent 1 records for the offline replay (60 s of play).
 const RECORDED_MAX: usize = 3000;
 /// How often the replay runs the recording (each time on a fresh player).
-const REPLAYS: usize = 5;
+const REPLAYS: usize = 20;
 
 /// (stage, total ns) in pipe order.
 type StageSums = Vec<(&'static str, u64)>;
