@@ -5,6 +5,7 @@
 //! [`action`] writes each dialect's commands, taking actuator names only from a robot model.
 
 pub mod action;
+pub mod cursor;
 pub mod frame;
 pub mod percept;
 pub mod sexp;
