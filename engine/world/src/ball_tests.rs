@@ -79,11 +79,14 @@ fn predictions_line_crossing_and_interception() {
     // A player standing on the path meets it there; a slow far one meets it at rest.
     let (t_meet, p_meet) = ball.interception([0.0, 2.0], 0.0, 0.1).unwrap();
     assert!((p_meet[0] + 0.1).abs() < 1e-3 && t_meet > 0.0, "{p_meet:?}");
-    let (_, far) = ball.interception([stop.x, 8.0], 0.5, 0.0).unwrap();
+    let (t_far, far) = ball.interception([stop.x, 8.0], 0.5, 0.0).unwrap();
     assert!(
         (Vector2::from(far) - stop).norm() < 0.05,
         "{far:?} vs {stop}"
     );
+    // Met at rest: the walk straight to where it stops, at the walking speed.
+    let walk = (Vector2::from(far) - Vector2::new(stop.x, 8.0)).norm() / 0.5;
+    assert!((t_far - walk).abs() < 1e-6, "{t_far} vs {walk}");
     assert!(now.x < stop.x);
 }
 
@@ -179,4 +182,22 @@ fn a_heard_sighting_is_taken_only_when_newer_and_never_fitted_with_own_points() 
     }
     assert_eq!(ball.heard_time, None);
     assert!((ball.position[0] - 4.3).abs() < 1e-6);
+}
+
+#[test]
+fn a_ball_at_rest_is_met_after_the_walk_to_it() {
+    let params = WorldParams::builtin().ball;
+    let mut ball = BallEstimate::new(&params);
+    for i in 0..20 {
+        ball.update(f64::from(i) * 0.04, Some([5.0, 0.0, 0.04].into()));
+    }
+    let (t, at) = ball.interception([0.0, 0.0], 0.5, 0.3).unwrap();
+    assert!((t - (5.0 - 0.3) / 0.5).abs() < 0.05, "{t}");
+    assert!((at[0] - 5.0).abs() < 0.05 && at[1].abs() < 0.05, "{at:?}");
+    // Already within reach: now. Standing still out of reach: never.
+    assert_eq!(
+        ball.interception([4.8, 0.0], 0.5, 0.3).map(|(t, _)| t),
+        Some(0.0)
+    );
+    assert!(ball.interception([0.0, 0.0], 0.0, 0.3).is_none());
 }
