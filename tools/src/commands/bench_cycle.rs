@@ -28,28 +28,43 @@ const BASELINE_THREAD: &str = "answer-";
 /// user + system CPU time [s] in a `/proc/.../stat` line (fields 14 and 15; the command
 /// name in parentheses may hold spaces, so count from its closing parenthesis).
 fn cpu_seconds(stat: &str) -> Option<f64> {
+    cpu_split(stat).map(|(user, kernel)| user + kernel)
+}
+
+/// (user, kernel) CPU time [s] in a `/proc/.../stat` line.
+fn cpu_split(stat: &str) -> Option<(f64, f64)> {
     let rest = &stat[stat.rfind(')')? + 1..];
     let fields: Vec<&str> = rest.split_whitespace().collect();
     // After ")": state is field 3, so utime (14) and stime (15) are at 11 and 12.
     let utime: f64 = fields.get(11)?.parse().ok()?;
     let stime: f64 = fields.get(12)?.parse().ok()?;
-    Some((utime + stime) / TICKS_PER_S)
+    Some((utime / TICKS_PER_S, stime / TICKS_PER_S))
 }
 
-/// CPU seconds of this process's threads whose name starts with `prefix`.
-fn threads_cpu(prefix: &str) -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-        return f64::NAN;
-    };
-    tasks
+/// Kernel CPU seconds of this process's threads whose name starts with `prefix`.
+fn threads_kernel_cpu(prefix: &str) -> f64 {
+    threads_stats(prefix)
+        .filter_map(|s| cpu_split(&s))
+        .map(|(_, kernel)| kernel)
+        .sum()
+}
+
+/// The `stat` lines of this process's threads whose name starts with `prefix`.
+fn threads_stats(prefix: &str) -> impl Iterator<Item = String> + '_ {
+    std::fs::read_dir("/proc/self/task")
+        .into_iter()
         .flatten()
-        .filter(|t| {
+        .flatten()
+        .filter(move |t| {
             std::fs::read_to_string(t.path().join("comm"))
                 .is_ok_and(|name| name.trim_end().starts_with(prefix))
         })
         .filter_map(|t| std::fs::read_to_string(t.path().join("stat")).ok())
-        .filter_map(|s| cpu_seconds(&s))
-        .sum()
+}
+
+/// CPU seconds of this process's threads whose name starts with `prefix`.
+fn threads_cpu(prefix: &str) -> f64 {
+    threads_stats(prefix).filter_map(|s| cpu_seconds(&s)).sum()
 }
 
 fn process_cpu(pid: u32) -> f64 {
@@ -154,6 +169,10 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         b.iter().map(|(_, r)| r.load(Ordering::Relaxed)).sum()
     };
     let stages_before = stage_totals(&team);
+    let kernel_before = (
+        threads_kernel_cpu("agent-"),
+        threads_kernel_cpu(BASELINE_THREAD),
+    );
     let start = (
         threads_cpu("agent-"),
         threads_cpu(BASELINE_THREAD),
@@ -170,6 +189,8 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         std::thread::sleep(Duration::from_millis(50));
     }
     let ours_cpu = threads_cpu("agent-") - start.0;
+    let ours_kernel = threads_kernel_cpu("agent-") - kernel_before.0;
+    let base_kernel = threads_kernel_cpu(BASELINE_THREAD) - kernel_before.1;
     let stages: Vec<(&str, u64)> = stage_totals(&team)
         .iter()
         .zip(&stages_before)
@@ -200,8 +221,8 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
     // The server steps once per cycle for everyone: its cycles are one agent's.
     let server_cycles = ours_cycles / u64::from(players.max(1));
     println!("play time: {played:.1} s in {wall:.1} s of wall time");
-    println!("ours: {ours_us:.1} us CPU per agent-cycle ({ours_cycles} agent-cycles, {ours_cpu:.2} s CPU, {missed} missed cycles)");
-    println!("baseline (answer only): {base_us:.1} us CPU per agent-cycle ({base_cycles} agent-cycles, {base_cpu:.2} s CPU)");
+    println!("ours: {ours_us:.1} us CPU per agent-cycle, {:.1} of it in the kernel ({ours_cycles} agent-cycles, {ours_cpu:.2} s CPU, {missed} missed cycles)", per(ours_kernel, ours_cycles));
+    println!("baseline (answer only): {base_us:.1} us CPU per agent-cycle, {:.1} of it in the kernel ({base_cycles} agent-cycles, {base_cpu:.2} s CPU)", per(base_kernel, base_cycles));
     println!("ratio ours / baseline: {:.2}", ours_us / base_us);
     println!(
         "ours by stage (wall time inside the cycle): {}",
