@@ -37,7 +37,43 @@ impl<'a> Sexp<'a> {
 
 /// A finite `f64` from an atom; `nan`, `inf` and anything malformed give `None`.
 pub fn parse_finite(atom: &str) -> Option<f64> {
-    atom.parse::<f64>().ok().filter(|v| v.is_finite())
+    plain_decimal(atom).or_else(|| atom.parse::<f64>().ok().filter(|v| v.is_finite()))
+}
+
+/// The servers' numbers are short plain decimals (`-0.35`, `12.5`, `3`): read as an integer
+/// and one division by a power of ten, which is exact when both are below 2^53 and 10^22
+/// (Clinger's fast path), so the result is the correctly rounded value `str::parse` gives.
+/// Anything else (exponents, long digit strings, odd forms) is left to `str::parse`.
+fn plain_decimal(atom: &str) -> Option<f64> {
+    const POWERS: [f64; 16] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+    ];
+    let bytes = atom.as_bytes();
+    let (negative, digits) = match bytes.first()? {
+        b'-' => (true, &bytes[1..]),
+        b'+' => (false, &bytes[1..]),
+        _ => (false, bytes),
+    };
+    let (mut mantissa, mut count, mut decimals, mut seen_point) = (0u64, 0usize, 0usize, false);
+    for &b in digits {
+        match b {
+            b'0'..=b'9' => {
+                mantissa = mantissa * 10 + u64::from(b - b'0');
+                count += 1;
+                decimals += usize::from(seen_point);
+            }
+            b'.' if !seen_point => seen_point = true,
+            _ => return None,
+        }
+        if count > 15 {
+            return None;
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    let value = mantissa as f64 / POWERS[decimals];
+    Some(if negative { -value } else { value })
 }
 
 /// A balanced list; `inner` is the text between its parentheses.
@@ -266,6 +302,48 @@ mod tests {
         assert_eq!(l.numbers::<2>("a"), None);
         assert_eq!(l.numbers::<2>("b"), None);
         assert_eq!(l.numbers::<2>("c"), Some([1.0, 2.0]));
+    }
+
+    #[test]
+    fn plain_decimals_read_exactly_as_the_standard_parser_does() {
+        for text in [
+            "0",
+            "-0.35",
+            "12.5",
+            "3.",
+            ".5",
+            "-.25",
+            "+7.125",
+            "0.1",
+            "123456789012345",
+            "0.000000000000001",
+            "9.99",
+            "-273.15",
+            "1e3",
+            "1.5E-2",
+            "12345678901234567",
+        ] {
+            assert_eq!(parse_finite(text), text.parse::<f64>().ok(), "{text}");
+        }
+        for bad in ["", "-", ".", "1.2.3", "1-2", "nan", "inf", "0x10", "1,5"] {
+            assert_eq!(parse_finite(bad), None, "{bad}");
+        }
+        // -0 keeps its sign, as `str::parse` gives it.
+        assert!(parse_finite("-0.0").unwrap().is_sign_negative());
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn any_short_decimal_matches_the_standard_parser(
+            int in 0u64..10_000_000, frac in 0u64..1_000_000, places in 0usize..7, negative: bool
+        ) {
+            let text = format!(
+                "{}{int}.{:0>places$}",
+                if negative { "-" } else { "" },
+                frac % 10u64.pow(places as u32)
+            );
+            proptest::prop_assert_eq!(parse_finite(&text), text.parse::<f64>().ok());
+        }
     }
 
     #[test]
