@@ -73,7 +73,8 @@ fn a_steady_state_cycle_allocates_nothing() {
     let model = t1();
     let dirs = libero_tests::copy_of_shipped_data("alloc");
     let source = build::load_library(&dirs, false).expect("shipped files load");
-    let player = |unum| build::tree_player(&model, "Home", unum, &source, &SkillSource::Builtin).unwrap();
+    let player =
+        |unum| build::tree_player(&model, "Home", unum, &source, &SkillSource::Builtin).unwrap();
     // The kick-off taker (7) and its receiver (4) of the shipped kick-off, and a keeper.
     let mut home: Vec<_> = [1, 4, 7].into_iter().map(player).collect();
     home[2].record_frames(WARM_UP + COUNTED_CYCLES);

@@ -7,7 +7,7 @@
 //! server's CPU per cycle (`/proc/<pid>/stat`). Machines are noisy; the ratio from one run is
 //! the figure to compare.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, proc_status_mb, DataArgs};
 use super::CliResult;
 use libero_agent::connection::Connection;
 use libero_agent::{build, AgentConfig, AgentStats, Team};
@@ -61,14 +61,7 @@ fn process_cpu(pid: u32) -> f64 {
 
 /// Peak resident memory of this process [MB] (`VmHWM`).
 fn peak_rss_mb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map_or(f64::NAN, |kb| kb / 1024.0)
+    proc_status_mb("VmHWM").unwrap_or(f64::NAN)
 }
 
 /// An agent that only answers: the greeting, then `(syn)` for every percept.
@@ -259,6 +252,9 @@ fn team_recording(team: &Team) -> Vec<Vec<u8>> {
         .unwrap_or_default()
 }
 
+/// (stage name, total ns) per stage, in pipe order.
+type StageSums = Vec<(&'static str, u64)>;
+
 /// Run `frames` through fresh copies of agent 1, [`REPLAYS`] times, on a thread of its own:
 /// the CPU per cycle and the stage totals.
 fn replay(
@@ -266,30 +262,28 @@ fn replay(
     model: &std::sync::Arc<libero_model::RobotModel>,
     source: &libero_agent::LibrarySource,
     skills: &libero_agent::SkillSource,
-) -> Result<(f64, Vec<(&'static str, u64)>), Box<dyn std::error::Error>> {
+) -> Result<(f64, StageSums), Box<dyn std::error::Error>> {
     let players = (0..REPLAYS)
         .map(|_| build_player(model, "Libero", 1, source, skills))
         .collect::<Result<Vec<_>, _>>()?;
-    let thread = std::thread::Builder::new()
-        .name("replay-1".into())
-        .spawn({
-            let frames = frames.to_vec();
-            move || {
-                let before = threads_cpu("replay-");
-                let mut out = Vec::with_capacity(4096);
-                let mut stages = vec![("", 0u64); 5];
-                for mut player in players {
-                    for frame in &frames {
-                        out.clear();
-                        player.on_percept(frame, &mut out);
-                    }
-                    for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
-                        *sum = (name, sum.1 + ns);
-                    }
+    let thread = std::thread::Builder::new().name("replay-1".into()).spawn({
+        let frames = frames.to_vec();
+        move || {
+            let before = threads_cpu("replay-");
+            let mut out = Vec::with_capacity(4096);
+            let mut stages = vec![("", 0u64); 5];
+            for mut player in players {
+                for frame in &frames {
+                    out.clear();
+                    player.on_percept(frame, &mut out);
                 }
-                (threads_cpu("replay-") - before, stages)
+                for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
+                    *sum = (name, sum.1 + ns);
+                }
             }
-        })?;
+            (threads_cpu("replay-") - before, stages)
+        }
+    })?;
     let (cpu_s, stages) = thread.join().map_err(|_| "the replay panicked")?;
     Ok((1e6 * cpu_s / (frames.len() * REPLAYS).max(1) as f64, stages))
 }
