@@ -37,6 +37,9 @@ enum Command {
     Bench(commands::bench::BenchArgs),
     /// Run a scenario file's situation N times on a real server; success rate and times.
     Scenario(commands::scenario::ScenarioArgs),
+    /// The hardening match (#13): long play with an edit every few seconds, good and broken;
+    /// judged on RSS growth, connections, missed cycles and panics.
+    Soak(commands::soak::SoakArgs),
 }
 
 fn main() -> ExitCode {
@@ -54,6 +57,7 @@ fn main() -> ExitCode {
         Command::Optimize(args) => commands::optimize::run(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::Scenario(args) => commands::scenario::run(args),
+        Command::Soak(args) => commands::soak::run(args),
     };
     match result {
         Ok(code) => code,

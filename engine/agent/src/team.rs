@@ -70,6 +70,27 @@ impl Team {
             let _ = t.join();
         }
     }
+
+    /// Whether each agent's thread has ended (uniform number, ended), without waiting: in a
+    /// running match a thread ends only on a panic or an error it could not recover from.
+    pub fn finished(&self) -> Vec<(u32, bool)> {
+        self.stats
+            .iter()
+            .zip(&self.threads)
+            .map(|((unum, _), t)| (*unum, t.is_finished()))
+            .collect()
+    }
+
+    /// Ask every agent to stop, wait for them, and name the ones whose thread panicked.
+    pub fn stop_reporting_panics(mut self) -> Vec<u32> {
+        self.shutdown.store(true, Ordering::Relaxed);
+        let unums: Vec<u32> = self.stats.iter().map(|(unum, _)| *unum).collect();
+        unums
+            .into_iter()
+            .zip(self.threads.drain(..))
+            .filter_map(|(unum, t)| t.join().is_err().then_some(unum))
+            .collect()
+    }
 }
 
 /// SimSpark heterogeneous robot types for a team of `n` (uniform numbers 1…n), meeting the

@@ -62,6 +62,10 @@ pub struct ServerOptions {
     /// Keep 20 ms cycles; `false` runs as fast as the agents answer (and implies sync).
     pub realtime: bool,
     pub rules: Rules,
+    /// The field (`--field`, e.g. `fifa7vs7`); `None` plays on the rule book's own. The FIFA
+    /// rules on the 7-a-side field give one 2700 s half: rcssservermj ends play for good at
+    /// the end of a half, so a longer stretch of play needs a longer half.
+    pub field: Option<&'static str>,
     /// Agent port; `None` picks a free one.
     pub agent_port: Option<u16>,
     /// Monitor port; `None` picks a free one.
@@ -78,6 +82,7 @@ impl Default for ServerOptions {
             sync: true,
             realtime: false,
             rules: Rules::Ssim,
+            field: None,
             agent_port: None,
             monitor_port: None,
             work_dir: None,
@@ -167,6 +172,9 @@ impl ServerProcess {
             .stderr(err);
         if self.options.sync {
             cmd.arg("--sync");
+        }
+        if let Some(field) = self.options.field {
+            cmd.args(["--field", field]);
         }
         let child = spawn_tied_to_this_process(cmd)
             .map_err(|e| ServerError::Io(self.install.server_program().display().to_string(), e))?;

@@ -7,7 +7,7 @@
 //! server's CPU per cycle (`/proc/<pid>/stat`). Machines are noisy; the ratio from one run is
 //! the figure to compare.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, proc_status_mb, DataArgs};
 use super::CliResult;
 use libero_agent::connection::Connection;
 use libero_agent::{build, AgentConfig, AgentStats, Team};
@@ -76,14 +76,7 @@ fn process_cpu(pid: u32) -> f64 {
 
 /// Peak resident memory of this process [MB] (`VmHWM`).
 fn peak_rss_mb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map_or(f64::NAN, |kb| kb / 1024.0)
+    proc_status_mb("VmHWM").unwrap_or(f64::NAN)
 }
 
 /// An agent that only answers: the greeting, then `(syn)` for every percept.

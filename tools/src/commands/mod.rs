@@ -9,6 +9,7 @@ pub mod optimize;
 pub mod scenario;
 pub mod server;
 pub mod setup;
+pub mod soak;
 pub mod team;
 
 /// Errors a command reports to the user: already phrased for them.

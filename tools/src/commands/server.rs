@@ -39,6 +39,7 @@ impl StartArgs {
             sync: self.sync || self.no_realtime,
             realtime: !self.no_realtime,
             rules: self.rules,
+            field: None,
             agent_port: self.agent_port,
             monitor_port: self.monitor_port,
             work_dir: None,

@@ -17,6 +17,18 @@ pub fn ctrl_c_flag() -> Arc<AtomicBool> {
     flag
 }
 
+/// A size field of this process's `/proc/self/status` in MB (`VmRSS` resident now, `VmHWM`
+/// its peak); `None` where there is no such file or field.
+pub fn proc_status_mb(field: &str) -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| {
+        l.strip_prefix(field)
+            .is_some_and(|rest| rest.starts_with(':'))
+    })?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
 /// A robot model by built-in name or from a RON file.
 pub fn load_robot(
     name: &str,
