@@ -100,23 +100,22 @@ impl<'a> Cursor<'a> {
     /// Inside a list just opened: its head atom, or `None` (the list is then left) when it
     /// is empty or starts with a list.
     pub fn head(&mut self) -> Result<Option<&'a str>, SexpError> {
-        match self.next_token() {
-            Token::Atom(head) => Ok(Some(head)),
-            Token::Close => Ok(None),
-            Token::Open => {
-                self.leave()?;
-                self.leave()?;
-                Ok(None)
-            }
-            Token::End => Err(SexpError::Unclosed(self.opened_at)),
-        }
+        self.next_atom()
     }
 
     /// Inside a list: exactly one more atom, then its end. Anything else: `None`, the list
     /// left.
     pub fn value(&mut self) -> Result<Option<&'a str>, SexpError> {
+        match self.next_atom()? {
+            Some(value) => self.closes_with(value),
+            None => Ok(None),
+        }
+    }
+
+    /// The next atom of the list; `None` (the list left) when the list ends or a list comes.
+    fn next_atom(&mut self) -> Result<Option<&'a str>, SexpError> {
         match self.next_token() {
-            Token::Atom(value) => self.closes_with(value),
+            Token::Atom(atom) => Ok(Some(atom)),
             Token::Close => Ok(None),
             Token::Open => {
                 self.leave()?;
