@@ -230,11 +230,20 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         peak_rss_mb()
     );
     if !recorded.is_empty() {
-        let (cpu_us, stages) = replay(&recorded, &model, &source, &skills)?;
+        let (cpu_us, stages) = replay(&recorded, &model, &source, &skills, false)?;
         println!(
             "replay of agent 1's {} recorded cycles, offline ({REPLAYS} times on one thread, no sockets): {cpu_us:.1} us CPU per cycle; by stage: {}",
             recorded.len(),
             stage_line(&stages, (recorded.len() * REPLAYS) as u64)
+        );
+        let (_, cold) = replay(&recorded, &model, &source, &skills, true)?;
+        let cycles = recorded.len() as u64;
+        let total: u64 = cold.iter().map(|(_, ns)| ns).sum();
+        println!(
+            "the same with the caches flushed before each cycle ({} MiB written, as the server's step does live): {:.1} us per cycle inside it; by stage: {}",
+            FLUSH_BYTES >> 20,
+            total as f64 / 1e3 / cycles.max(1) as f64,
+            stage_line(&cold, cycles)
         );
     }
     Ok(ExitCode::SUCCESS)
@@ -244,6 +253,9 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
 const RECORDED_MAX: usize = 3000;
 /// How often the replay runs the recording (each time on a fresh player).
 const REPLAYS: usize = 20;
+/// What a cold replay writes between cycles: more than this machine's L3 (32 MiB), so each cycle starts
+/// the way a live one does, after the server's step has filled the caches with its own data.
+const FLUSH_BYTES: usize = 48 << 20;
 
 /// (stage, total ns) in pipe order.
 type StageSums = Vec<(&'static str, u64)>;
@@ -283,8 +295,10 @@ fn replay(
     model: &std::sync::Arc<libero_model::RobotModel>,
     source: &libero_agent::LibrarySource,
     skills: &libero_agent::SkillSource,
+    cold: bool,
 ) -> Result<(f64, StageSums), Box<dyn std::error::Error>> {
-    let players = (0..REPLAYS)
+    // A cold replay is slow (the flush): once.
+    let players = (0..if cold { 1 } else { REPLAYS })
         .map(|_| build_player(model, "Libero", 1, source, skills))
         .collect::<Result<Vec<_>, _>>()?;
     let thread = std::thread::Builder::new().name("replay-1".into()).spawn({
@@ -293,8 +307,16 @@ fn replay(
             let before = threads_cpu("replay-");
             let mut out = Vec::with_capacity(4096);
             let mut stages = vec![("", 0u64); 5];
+            let mut flush = if cold {
+                vec![0u8; FLUSH_BYTES]
+            } else {
+                Vec::new()
+            };
             for mut player in players {
                 for frame in &frames {
+                    for (i, b) in flush.iter_mut().enumerate().step_by(64) {
+                        *b = b.wrapping_add(i as u8);
+                    }
                     out.clear();
                     player.on_percept(frame, &mut out);
                 }
@@ -302,11 +324,13 @@ fn replay(
                     *sum = (name, sum.1 + ns);
                 }
             }
+            std::hint::black_box(&flush);
             (threads_cpu("replay-") - before, stages)
         }
     })?;
     let (cpu_s, stages) = thread.join().map_err(|_| "the replay panicked")?;
-    Ok((1e6 * cpu_s / (frames.len() * REPLAYS).max(1) as f64, stages))
+    let runs = if cold { 1 } else { REPLAYS };
+    Ok((1e6 * cpu_s / (frames.len() * runs).max(1) as f64, stages))
 }
 
 #[cfg(test)]
