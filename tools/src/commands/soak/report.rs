@@ -89,29 +89,19 @@ impl SoakReport {
             failures.push(format!("{} missed cycles", self.missed_cycles));
         }
         let e = &self.edits;
-        if e.good_taken < e.good_written {
-            failures.push(format!(
-                "good edits taken {} of {}",
-                e.good_taken, e.good_written
-            ));
-        }
-        if e.broken_refused < e.broken_written {
-            failures.push(format!(
-                "broken edits refused {} of {}",
-                e.broken_refused, e.broken_written
-            ));
-        }
-        if e.played_on_after_broken < e.broken_refused {
-            failures.push(format!(
-                "the team played on after {} of {} refused edits",
-                e.played_on_after_broken, e.broken_refused
-            ));
-        }
-        if e.restores_taken < e.restores_written {
-            failures.push(format!(
-                "restores taken {} of {}",
-                e.restores_taken, e.restores_written
-            ));
+        for (done, of, what) in [
+            (e.good_taken, e.good_written, "good edits taken"),
+            (e.broken_refused, e.broken_written, "broken edits refused"),
+            (
+                e.played_on_after_broken,
+                e.broken_refused,
+                "refused edits after which the team played on",
+            ),
+            (e.restores_taken, e.restores_written, "restores taken"),
+        ] {
+            if done < of {
+                failures.push(format!("{what} {done} of {of}"));
+            }
         }
         self.passed = failures.is_empty();
         self.failures = failures;
