@@ -35,7 +35,6 @@ impl JointTargets {
             }));
     }
 
-    /// Set one joint's gains by name; unknown names are ignored like in [`Self::set_angle`].
     /// Set the gains of joints given by index (resolved from names when parameters load).
     pub fn set_gains_of(&mut self, gains: &[(usize, libero_model::Gains)]) {
         for &(id, g) in gains {
@@ -43,13 +42,6 @@ impl JointTargets {
                 t.kp = g.kp;
                 t.kd = g.kd;
             }
-        }
-    }
-
-    pub fn set_gains(&mut self, model: &RobotModel, joint: &str, kp: f64, kd: f64) {
-        if let Some(t) = model.joint_id(joint).and_then(|id| self.joints.get_mut(id)) {
-            t.kp = kp;
-            t.kd = kd;
         }
     }
 
