@@ -327,7 +327,7 @@ impl Arena {
                 goals_for: s.score_left.saturating_sub(start.score_left),
                 goals_against: s.score_right.saturating_sub(start.score_right),
             };
-            measure.observe(t, s.ball);
+            measure.observe(t, s.ball, s.play_mode == "PlayOn");
             if s.play_mode == "PlayOn" {
                 last_in_play = s.ball.map(|b| [b[0], b[1]]);
             }
@@ -388,7 +388,7 @@ impl Arena {
             goals_against: s.score_right.saturating_sub(start.score_right),
             closest_m: judge.closest.map(|(g, _)| g),
             ball_travel_m: measure.max_travel,
-            goal_line_y: measure.goal_line_y,
+            goal_line_y: measure.goal_line_crossing(),
             ball_end: last_in_play,
             robots,
         })
@@ -428,7 +428,9 @@ struct LaunchTracker {
     window: Option<(f64, [f64; 2])>,
     max_travel: f64,
     goal_line_y: Option<f64>,
+    /// The last two ball positions in play.
     last: Option<[f64; 2]>,
+    before_last: Option<[f64; 2]>,
 }
 
 impl LaunchTracker {
@@ -441,11 +443,14 @@ impl LaunchTracker {
             max_travel: 0.0,
             goal_line_y: None,
             last: None,
+            before_last: None,
         }
     }
 
-    fn observe(&mut self, t: f64, ball: Option<[f64; 3]>) {
-        let Some(b) = ball.map(|b| [b[0], b[1]]) else {
+    /// One ground-truth sample; out of play the referee may have moved the ball already, so
+    /// only samples in play count.
+    fn observe(&mut self, t: f64, ball: Option<[f64; 3]>, in_play: bool) {
+        let Some(b) = ball.map(|b| [b[0], b[1]]).filter(|_| in_play) else {
             return;
         };
         let travel = (b[0] - self.from[0]).hypot(b[1] - self.from[1]);
@@ -470,7 +475,26 @@ impl LaunchTracker {
                 }
             }
         }
+        self.before_last = self.last;
         self.last = Some(b);
+    }
+
+    /// Where the ball crossed a goal line: seen, or, when play stopped on the crossing (the
+    /// referee moves the ball for a goal kick or corner before the next sample), extrapolated
+    /// from the last two samples in play when the line lies within 1.5 m ahead.
+    fn goal_line_crossing(&self) -> Option<f64> {
+        if self.goal_line_y.is_some() {
+            return self.goal_line_y;
+        }
+        let (a, b) = (self.before_last?, self.last?);
+        let dx = b[0] - a[0];
+        if dx.abs() < 1e-9 {
+            return None;
+        }
+        let line = self.goal_line_x.copysign(dx);
+        let w = (line - a[0]) / dx;
+        let ahead_m = (line - b[0]).abs();
+        (w >= 1.0 && ahead_m <= 1.5).then(|| a[1] + w * (b[1] - a[1]))
     }
 
     fn result(&self) -> Option<LaunchMeasure> {
@@ -482,5 +506,29 @@ impl LaunchTracker {
             direction_deg: dy.atan2(dx).to_degrees(),
             mean_speed_m_s: if dt > 0.0 { dx.hypot(dy) / dt } else { 0.0 },
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LaunchTracker;
+
+    #[test]
+    fn a_crossing_hidden_by_the_referee_moving_the_ball_is_extrapolated() {
+        let mut t = LaunchTracker::new([20.0, 0.0], 27.5);
+        // In play, rolling towards +x and +y; then play stops (goal kick) and the referee has
+        // already put the ball in the goal area at the next sample.
+        t.observe(0.0, Some([20.0, 0.0, 0.11]), true);
+        t.observe(1.0, Some([26.5, 1.3, 0.11]), true);
+        t.observe(1.1, Some([27.0, 1.4, 0.11]), true);
+        t.observe(1.2, Some([26.5, 0.0, 0.11]), false);
+        let y = t.goal_line_crossing().expect("extrapolated");
+        assert!((y - 1.5).abs() < 1e-9, "{y}");
+        // A ball that stopped far short of the line crossed nothing.
+        let mut short = LaunchTracker::new([10.0, 0.0], 27.5);
+        short.observe(0.0, Some([10.0, 0.0, 0.11]), true);
+        short.observe(1.0, Some([20.0, 0.0, 0.11]), true);
+        short.observe(1.1, Some([20.1, 0.0, 0.11]), true);
+        assert_eq!(short.goal_line_crossing(), None);
     }
 }

@@ -20,8 +20,10 @@ pub struct ShotParams {
     pub ball_speed_m_s: f64,
     /// The keeper covers this far either side of itself at once [m] ...
     pub keeper_reach_m: f64,
-    /// ... and this much more per second of the ball's travel [m/s].
+    /// ... and this much more per second of the ball's travel [m/s] ...
     pub keeper_speed_m_s: f64,
+    /// ... once it has seen the kick and started moving, this long after it [s].
+    pub keeper_reaction_s: f64,
     /// A field player blocks a ball passing within this of it [m].
     pub block_radius_m: f64,
     /// Shoot when the best target's scoring probability reaches this.
@@ -40,7 +42,8 @@ impl Default for ShotParams {
             max_distance_m: 14.0,
             ball_speed_m_s: 4.0,
             keeper_reach_m: 0.5,
-            keeper_speed_m_s: 0.6,
+            keeper_speed_m_s: 0.25,
+            keeper_reaction_s: 0.5,
             block_radius_m: 0.35,
             threshold: 0.3,
             hysteresis: 0.1,
@@ -135,7 +138,8 @@ impl ShotParams {
         let keeper = defenders.keeper.map_or(1.0, |k| {
             let (s, _) = lateral(k);
             let travel_s = s.max(0.0) / self.ball_speed_m_s;
-            passes(k, self.keeper_reach_m + self.keeper_speed_m_s * travel_s)
+            let moving_s = (travel_s - self.keeper_reaction_s).max(0.0);
+            passes(k, self.keeper_reach_m + self.keeper_speed_m_s * moving_s)
         });
         let blockers: f64 = defenders
             .field_players

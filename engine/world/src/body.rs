@@ -1,5 +1,6 @@
 //! The agent's own body: joint angles, inertial sensors and posture.
 
+use crate::params::BodyParams;
 use libero_model::RobotModel;
 use libero_protocol::Percept;
 
@@ -27,7 +28,13 @@ pub struct BodyState {
     pub accel: [f64; 3],
     /// Low-passed accelerometer: the direction of gravity without step impacts.
     pub gravity: [f64; 3],
+    /// Lying only once `gravity` has said so for `BodyParams::lying_confirm_s`: a step's or a
+    /// kick's jolt tips the low-passed reading past 45° for a cycle or two, and every such
+    /// blip read as a fall interrupts what the robot was doing.
     pub posture: Posture,
+    /// What `gravity` says this cycle, and since when it has said lying.
+    pub posture_reading: Posture,
+    lying_read_since: Option<f64>,
     /// Percepts that named a joint the model does not have (a wrong robot model, or a new
     /// server): counted so it shows in logs rather than silently ignored.
     pub unknown_joints: u64,
@@ -44,12 +51,14 @@ impl BodyState {
             accel: [0.0, 0.0, 9.81],
             gravity: [0.0, 0.0, 9.81],
             posture: Posture::Upright,
+            posture_reading: Posture::Upright,
+            lying_read_since: None,
             unknown_joints: 0,
             last_time: None,
         }
     }
 
-    pub fn update(&mut self, model: &RobotModel, percept: &Percept<'_>) {
+    pub fn update(&mut self, model: &RobotModel, percept: &Percept<'_>, params: &BodyParams) {
         let dt = match (percept.time, self.last_time) {
             (Some(now), Some(before)) if now > before => Some(now - before),
             _ => None,
@@ -78,7 +87,16 @@ impl BodyState {
                 *g += SMOOTHING * (a - *g);
             }
         }
-        self.posture = posture_from_gravity(self.gravity);
+        self.posture_reading = posture_from_gravity(self.gravity);
+        let now = self.last_time.unwrap_or(0.0);
+        self.lying_read_since = match self.posture_reading {
+            Posture::Upright => None,
+            _ => self.lying_read_since.or(Some(now)),
+        };
+        self.posture = match self.lying_read_since {
+            Some(since) if now - since >= params.lying_confirm_s => self.posture_reading,
+            _ => Posture::Upright,
+        };
     }
 }
 
@@ -110,5 +128,71 @@ mod tests {
         assert_eq!(posture_from_gravity([-9.8, 0.0, 0.0]), Posture::FallenFront);
         assert_eq!(posture_from_gravity([9.8, 0.3, 0.5]), Posture::FallenBack);
         assert_eq!(posture_from_gravity([0.5, 9.7, 1.0]), Posture::FallenSide);
+    }
+}
+
+#[cfg(test)]
+mod lying_confirmation {
+    use super::*;
+
+    fn feed(body: &mut BodyState, model: &RobotModel, time: f64, accel: [f64; 3]) -> Posture {
+        let percept = Percept {
+            time: Some(time),
+            accel: Some(accel),
+            ..Percept::default()
+        };
+        body.update(
+            model,
+            &percept,
+            &BodyParams {
+                lying_confirm_s: 0.2,
+            },
+        );
+        body.posture
+    }
+
+    #[test]
+    fn a_jolt_of_a_few_cycles_is_not_a_fall_but_lying_on_is() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut body = BodyState::new(&model);
+        let mut t = 0.0;
+        for _ in 0..50 {
+            t += 0.02;
+            assert_eq!(
+                feed(&mut body, &model, t, [0.0, 0.0, 9.81]),
+                Posture::Upright
+            );
+        }
+        // A kick's jolt: the low-passed reading tips past 45° for about 0.1 s.
+        for _ in 0..8 {
+            t += 0.02;
+            feed(&mut body, &model, t, [40.0, 0.0, -5.0]);
+            assert_eq!(body.posture, Posture::Upright);
+        }
+        assert_eq!(body.posture_reading, Posture::FallenBack);
+        for _ in 0..10 {
+            t += 0.02;
+            feed(&mut body, &model, t, [0.0, 0.0, 9.81]);
+        }
+        assert_eq!(body.posture_reading, Posture::Upright);
+        // Lying on the back for good: confirmed 0.2 s after the reading first says so.
+        let mut confirmed_after = None;
+        let start = t;
+        let mut read_from = None;
+        for _ in 0..50 {
+            t += 0.02;
+            feed(&mut body, &model, t, [9.81, 0.0, 0.3]);
+            if body.posture_reading != Posture::Upright {
+                read_from.get_or_insert(t);
+            }
+            if body.posture == Posture::FallenBack && confirmed_after.is_none() {
+                confirmed_after = Some(t - read_from.unwrap());
+            }
+        }
+        let confirmed_after = confirmed_after.expect("lying on is a fall");
+        assert!(
+            (0.19..0.23).contains(&confirmed_after),
+            "{confirmed_after} s after {start}"
+        );
     }
 }

@@ -36,7 +36,7 @@ pub use body::{BodyState, Posture};
 pub use frames::{Global, Own, Pose, Robot, TeamSide};
 pub use game::{GameState, PlayMode, Side};
 pub use localization::SelfEstimate;
-pub use params::WorldParams;
+pub use params::{BodyParams, WorldParams};
 pub use players::{PlayerEstimate, Players, Relation};
 
 use libero_model::kinematics::Kinematics;
@@ -170,7 +170,7 @@ impl World {
         let dt = self.last_time.map_or(0.0, |before| self.time - before);
         self.last_time = Some(self.time);
         self.game.update(&percept.game);
-        self.body.update(model, percept);
+        self.body.update(model, percept, &self.params.body);
         self.localizer.update(
             &self.field,
             &self.body.joint_angles,

@@ -73,8 +73,16 @@ pub struct PlayerParams {
     pub forget_after_s: f64,
 }
 
+/// The robot's own body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BodyParams {
+    /// The accelerometer must say lying for this long [s] before the robot counts as fallen.
+    pub lying_confirm_s: f64,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct WorldParams {
+    pub body: BodyParams,
     pub localization: LocalizationParams,
     pub ball: BallParams,
     pub players: PlayerParams,
@@ -156,6 +164,7 @@ impl WorldParams {
                 problems.push(format!("`{name}` must be zero or positive, not {v}"));
             }
         };
+        non_negative("lying_confirm_s", self.body.lying_confirm_s);
         non_negative("vision_sigma_per_metre", l.vision_sigma_per_metre);
         non_negative("odometry_sigma_per_metre", l.odometry_sigma_per_metre);
         non_negative("still_gyro_deg_s", l.still_gyro_deg_s);

@@ -130,6 +130,7 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
     let ball_speed_m_s = num("ball_speed_m_s", 0.5, 30.0, d.ball_speed_m_s);
     let keeper_reach_m = num("keeper_reach_m", 0.0, 5.0, d.keeper_reach_m);
     let keeper_speed_m_s = num("keeper_speed_m_s", 0.0, 5.0, d.keeper_speed_m_s);
+    let keeper_reaction_s = num("keeper_reaction_s", 0.0, 5.0, d.keeper_reaction_s);
     let block_radius_m = num("block_radius_m", 0.0, 3.0, d.block_radius_m);
     let threshold = num("threshold", 0.0, 1.0, d.threshold);
     let hysteresis = num("hysteresis", 0.0, 1.0, d.hysteresis);
@@ -142,6 +143,7 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
             "ball_speed_m_s",
             "keeper_reach_m",
             "keeper_speed_m_s",
+            "keeper_reaction_s",
             "block_radius_m",
             "threshold",
             "hysteresis",
@@ -154,6 +156,7 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
         ball_speed_m_s: ball_speed_m_s?,
         keeper_reach_m: keeper_reach_m?,
         keeper_speed_m_s: keeper_speed_m_s?,
+        keeper_reaction_s: keeper_reaction_s?,
         block_radius_m: block_radius_m?,
         threshold: threshold?,
         hysteresis: hysteresis?,

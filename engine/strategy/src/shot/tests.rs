@@ -56,7 +56,15 @@ fn keeper_in_the_middle_sends_the_best_shot_to_a_corner() {
         field_players: Default::default(),
     };
     let best = p.best(ball, &field(), &spread(2.0), &left_keeper);
-    assert!(best.target.y < -0.5, "{best:?}");
+    assert!(best.target.y < 0.0 && best.probability > 0.9, "{best:?}");
+    let at_keeper = p.probability(
+        ball,
+        Own::new(27.5, 1.53),
+        &field(),
+        &spread(2.0),
+        &left_keeper,
+    );
+    assert!(at_keeper < 0.1, "{at_keeper}");
 }
 
 #[test]
@@ -84,4 +92,42 @@ fn a_defender_on_the_line_blocks_and_out_of_range_is_zero() {
     let tight = p.probability(ball, corner, &field(), &spread(2.0), &Defenders::default());
     let wide = p.probability(ball, corner, &field(), &spread(8.0), &Defenders::default());
     assert!(wide < tight - 0.2, "{tight} {wide}");
+}
+
+#[test]
+fn the_keeper_moves_only_after_its_reaction_time_worked_by_hand() {
+    // Ball 8 m out, keeper on the line 0.5 m in front of the goal, 0.9 m to the side of the
+    // shot line. The ball needs 7.5 m / 4 m/s = 1.875 s to the keeper's line.
+    let ball = Own::new(19.5, 0.0);
+    let target = Own::new(27.5, 0.0);
+    let keeper = Defenders {
+        keeper: Some(Own::new(27.0, 0.9)),
+        field_players: Default::default(),
+    };
+    let sd = 7.5 * 2f64.to_radians().tan();
+    let chance = |p: &ShotParams| {
+        let reach = p.keeper_reach_m + p.keeper_speed_m_s * (1.875 - p.keeper_reaction_s).max(0.0);
+        let stopped = phi((0.9 + reach) / sd) - phi((0.9 - reach) / sd);
+        phi(3.0) * (1.0 - stopped)
+    };
+    for p in [
+        ShotParams::default(),
+        ShotParams {
+            keeper_reaction_s: 0.0,
+            keeper_speed_m_s: 0.6,
+            ..ShotParams::default()
+        },
+    ] {
+        let pr = p.probability(ball, target, &field(), &spread(2.0), &keeper);
+        assert!((pr - chance(&p)).abs() < 1e-6, "{pr} vs {}", chance(&p));
+    }
+    // Reach 0.5 + 0.25 * 1.375 = 0.84 m < 0.9 m: mostly past; 0.5 + 0.6 * 1.875 = 1.63 m: saved.
+    let default = ShotParams::default().probability(ball, target, &field(), &spread(2.0), &keeper);
+    assert!(default > 0.5, "{default}");
+    let quick = ShotParams {
+        keeper_reaction_s: 0.0,
+        keeper_speed_m_s: 0.6,
+        ..ShotParams::default()
+    };
+    assert!(quick.probability(ball, target, &field(), &spread(2.0), &keeper) < 0.1);
 }
