@@ -111,7 +111,12 @@ impl Decider for TreeDecider {
         self.ensure_runner(&library);
         if self.field_checked != Some(library.generation()) {
             self.field_checked = Some(library.generation());
-            let team_field = strategy_of(&library).field();
+            let strategy = strategy_of(&library);
+            let team_field = strategy.field();
+            // The path planner's room for any plan on this field, now rather than during play.
+            self.memory
+                .avoidance
+                .reserve(&strategy.avoidance.unwrap_or_default(), &team_field);
             if team_field.name() != world.field.name {
                 log::error!(
                     "player {}: team.ron plays on the `{}` field but the server's is `{}`: formations and strategy files are for another field",

@@ -121,6 +121,13 @@ pub struct Planner {
 }
 
 impl Planner {
+    /// Room for the largest plan `params` can make on `field`, so that planning during play
+    /// never allocates (and the path for a plan's waypoints).
+    pub fn reserve(&mut self, params: &AvoidanceParams, field: &Field) {
+        let cells = self.grid.reserve(params, field);
+        self.path.reserve(cells.min(4096));
+    }
+
     /// Where to walk this cycle on the way from `me` to `target`.
     pub fn next_waypoint(
         &mut self,
@@ -253,6 +260,9 @@ pub fn plan_path(
         .then_some(path)
 }
 
+/// A plan over more cells than this is refused (a cell size far too small for the field).
+const MAX_GRID_CELLS: usize = 250_000;
+
 /// The grid search's working memory, kept between plans: a plan runs during play, and
 /// allocating the grid each time put the heap on the per-cycle path.
 #[derive(Debug, Clone, Default)]
@@ -264,6 +274,23 @@ struct GridSearch {
 }
 
 impl GridSearch {
+    /// Room for a grid over the whole field and its border; returns its number of cells.
+    fn reserve(&mut self, params: &AvoidanceParams, field: &Field) -> usize {
+        let cell = params.grid.cell_m.max(0.05);
+        let border = field.geometry().border;
+        let (hx, hy) = (field.half_length() + border, field.half_width() + border);
+        let nx = ((2.0 * hx / cell).ceil() as usize).max(1) + 1;
+        let ny = ((2.0 * hy / cell).ceil() as usize).max(1) + 1;
+        let cells = (nx * ny).min(MAX_GRID_CELLS);
+        let more = |len: usize| cells.saturating_sub(len);
+        self.blocked.reserve(more(self.blocked.len()));
+        self.best.reserve(more(self.best.len()));
+        self.came_from.reserve(more(self.came_from.len()));
+        // Each cell enters the open list at most once per neighbour that improves it.
+        self.open.reserve(more(self.open.len()) * 2);
+        cells
+    }
+
     /// As [`plan_path`], into `path`; `false` when no path exists.
     fn plan(
         &mut self,
@@ -289,7 +316,7 @@ impl GridSearch {
         let cell = g.cell_m.max(0.05);
         let nx = (((hi.x - lo.x) / cell).ceil() as usize).max(1) + 1;
         let ny = (((hi.y - lo.y) / cell).ceil() as usize).max(1) + 1;
-        if nx * ny > 250_000 {
+        if nx * ny > MAX_GRID_CELLS {
             return false;
         }
         let centre =

@@ -45,21 +45,29 @@ impl PlayMode {
             Some((b, s)) if s.eq_ignore_ascii_case("right") => (b, Some(Side::Right)),
             _ => (name, None),
         };
-        match (base.to_ascii_lowercase().as_str(), side) {
-            ("beforekickoff", None) => PlayMode::BeforeKickOff,
-            ("playon", None) => PlayMode::PlayOn,
-            ("gameover", None) => PlayMode::GameOver,
-            ("kickoff", Some(s)) => PlayMode::KickOff(s),
-            ("kickin", Some(s)) => PlayMode::KickIn(s),
-            ("corner_kick", Some(s)) => PlayMode::CornerKick(s),
-            ("goal_kick", Some(s)) => PlayMode::GoalKick(s),
-            ("offside", Some(s)) => PlayMode::Offside(s),
-            ("free_kick", Some(s)) => PlayMode::FreeKick(s),
-            ("direct_free_kick", Some(s)) => PlayMode::DirectFreeKick(s),
-            ("penalty_kick", Some(s)) => PlayMode::PenaltyKick(s),
-            ("penalty_shoot", Some(s)) => PlayMode::PenaltyShoot(s),
-            ("goal", Some(s)) => PlayMode::Goal(s),
-            _ => PlayMode::Unknown,
+        // Compared without case in place: lower-casing a copy allocated at every mode change.
+        type Named = (&'static str, fn(Side) -> PlayMode);
+        const NAMED: [Named; 10] = [
+            ("kickoff", PlayMode::KickOff),
+            ("kickin", PlayMode::KickIn),
+            ("corner_kick", PlayMode::CornerKick),
+            ("goal_kick", PlayMode::GoalKick),
+            ("offside", PlayMode::Offside),
+            ("free_kick", PlayMode::FreeKick),
+            ("direct_free_kick", PlayMode::DirectFreeKick),
+            ("penalty_kick", PlayMode::PenaltyKick),
+            ("penalty_shoot", PlayMode::PenaltyShoot),
+            ("goal", PlayMode::Goal),
+        ];
+        match side {
+            None if base.eq_ignore_ascii_case("beforekickoff") => PlayMode::BeforeKickOff,
+            None if base.eq_ignore_ascii_case("playon") => PlayMode::PlayOn,
+            None if base.eq_ignore_ascii_case("gameover") => PlayMode::GameOver,
+            Some(side) => NAMED
+                .iter()
+                .find(|(name, _)| base.eq_ignore_ascii_case(name))
+                .map_or(PlayMode::Unknown, |(_, mode)| mode(side)),
+            None => PlayMode::Unknown,
         }
     }
 
@@ -68,6 +76,9 @@ impl PlayMode {
         matches!(self, PlayMode::BeforeKickOff | PlayMode::Goal(_))
     }
 }
+
+/// Longer than any play mode name either server sends.
+const PLAY_MODE_NAME_ROOM: usize = 64;
 
 /// What the agent knows about the game.
 #[derive(Debug, Clone)]
@@ -91,7 +102,7 @@ impl GameState {
             team: team.to_string(),
             unum,
             play_mode: PlayMode::Unknown,
-            play_mode_name: String::new(),
+            play_mode_name: String::with_capacity(PLAY_MODE_NAME_ROOM),
             play_time: 0.0,
             side: None,
             score_left: 0,
@@ -103,7 +114,9 @@ impl GameState {
         if let Some(pm) = gs.play_mode {
             if pm != self.play_mode_name {
                 self.play_mode = PlayMode::from_server(pm);
-                self.play_mode_name = pm.to_string();
+                // Into the string's own room (reserved at start): no allocation per change.
+                self.play_mode_name.clear();
+                self.play_mode_name.push_str(pm);
             }
         }
         if let Some(t) = gs.play_time {
