@@ -327,7 +327,11 @@ impl Arena {
                 goals_for: s.score_left.saturating_sub(start.score_left),
                 goals_against: s.score_right.saturating_sub(start.score_right),
             };
-            measure.observe(t, s.ball, s.play_mode == "PlayOn");
+            // At a goal the ball stays where it went; at a goal kick or corner the referee
+            // has already moved it.
+            let ball_where_play_left_it =
+                s.play_mode == "PlayOn" || s.play_mode.starts_with("Goal_");
+            measure.observe(t, s.ball, ball_where_play_left_it);
             if s.play_mode == "PlayOn" {
                 last_in_play = s.ball.map(|b| [b[0], b[1]]);
             }
@@ -447,8 +451,8 @@ impl LaunchTracker {
         }
     }
 
-    /// One ground-truth sample; out of play the referee may have moved the ball already, so
-    /// only samples in play count.
+    /// One ground-truth sample; `in_play` false when the referee may have moved the ball
+    /// already (such samples are ignored).
     fn observe(&mut self, t: f64, ball: Option<[f64; 3]>, in_play: bool) {
         let Some(b) = ball.map(|b| [b[0], b[1]]).filter(|_| in_play) else {
             return;
@@ -475,8 +479,11 @@ impl LaunchTracker {
                 }
             }
         }
-        self.before_last = self.last;
-        self.last = Some(b);
+        // The monitor updates less often than it is read: a repeated sample is no step.
+        if self.last != Some(b) {
+            self.before_last = self.last;
+            self.last = Some(b);
+        }
     }
 
     /// Where the ball crossed a goal line: seen, or, when play stopped on the crossing (the
@@ -521,6 +528,8 @@ mod tests {
         t.observe(0.0, Some([20.0, 0.0, 0.11]), true);
         t.observe(1.0, Some([26.5, 1.3, 0.11]), true);
         t.observe(1.1, Some([27.0, 1.4, 0.11]), true);
+        // Read again before the monitor's next update.
+        t.observe(1.15, Some([27.0, 1.4, 0.11]), true);
         t.observe(1.2, Some([26.5, 0.0, 0.11]), false);
         let y = t.goal_line_crossing().expect("extrapolated");
         assert!((y - 1.5).abs() < 1e-9, "{y}");
