@@ -260,6 +260,18 @@ pub fn plan_path(
         .then_some(path)
 }
 
+/// The cell size a plan uses for `cell_m` from the file [m].
+fn grid_cell_m(cell_m: f64) -> f64 {
+    cell_m.max(0.05)
+}
+
+/// Cells along x and y of a grid spanning `span_x` by `span_y` [m].
+fn grid_size(span_x: f64, span_y: f64, cell_m: f64) -> (usize, usize) {
+    let cell = grid_cell_m(cell_m);
+    let across = |span: f64| ((span / cell).ceil() as usize).max(1) + 1;
+    (across(span_x), across(span_y))
+}
+
 /// A plan over more cells than this is refused (a cell size far too small for the field).
 const MAX_GRID_CELLS: usize = 250_000;
 
@@ -276,11 +288,9 @@ struct GridSearch {
 impl GridSearch {
     /// Room for a grid over the whole field and its border; returns its number of cells.
     fn reserve(&mut self, params: &AvoidanceParams, field: &Field) -> usize {
-        let cell = params.grid.cell_m.max(0.05);
         let border = field.geometry().border;
         let (hx, hy) = (field.half_length() + border, field.half_width() + border);
-        let nx = ((2.0 * hx / cell).ceil() as usize).max(1) + 1;
-        let ny = ((2.0 * hy / cell).ceil() as usize).max(1) + 1;
+        let (nx, ny) = grid_size(2.0 * hx, 2.0 * hy, params.grid.cell_m);
         let cells = (nx * ny).min(MAX_GRID_CELLS);
         let more = |len: usize| cells.saturating_sub(len);
         self.blocked.reserve(more(self.blocked.len()));
@@ -313,9 +323,8 @@ impl GridSearch {
             (start.x.max(target.x) + g.margin_m).min(hx),
             (start.y.max(target.y) + g.margin_m).min(hy),
         );
-        let cell = g.cell_m.max(0.05);
-        let nx = (((hi.x - lo.x) / cell).ceil() as usize).max(1) + 1;
-        let ny = (((hi.y - lo.y) / cell).ceil() as usize).max(1) + 1;
+        let cell = grid_cell_m(g.cell_m);
+        let (nx, ny) = grid_size(hi.x - lo.x, hi.y - lo.y, g.cell_m);
         if nx * ny > MAX_GRID_CELLS {
             return false;
         }
