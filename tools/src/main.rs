@@ -40,6 +40,8 @@ enum Command {
     /// The hardening match (#13): long play with an edit every few seconds, good and broken;
     /// judged on RSS growth, connections, missed cycles and panics.
     Soak(commands::soak::SoakArgs),
+    /// Replay evaluation logs in the field view (a web page served on loopback).
+    View(commands::view::ViewCommandArgs),
 }
 
 fn main() -> ExitCode {
@@ -58,6 +60,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => commands::bench::run(args),
         Command::Scenario(args) => commands::scenario::run(args),
         Command::Soak(args) => commands::soak::run(args),
+        Command::View(args) => commands::view::run(args),
     };
     match result {
         Ok(code) => code,

@@ -1,8 +1,9 @@
 //! The decision stage: from beliefs to this cycle's intent.
 
+use crate::view::DecisionView;
 use libero_behavior::{Library, LiveLibrary, TreeRunner};
 use libero_skills::{BodyIntent, HeadIntent, Intent, SkillStatus};
-use libero_strategy::{strategy_of, AgentHost, Natives, PlayerMemory};
+use libero_strategy::{strategy_of, AgentHost, DecisionNotes, Natives, PlayerMemory};
 use libero_world::World;
 use std::sync::Arc;
 
@@ -16,6 +17,19 @@ pub trait Decider: Send {
 
     /// The active path of the latest decision, one line (for traces and tests).
     fn trace_line(&self) -> Option<String> {
+        None
+    }
+
+    /// Keep the strategy's notes of the next decision, for [`Decider::describe`].
+    fn note_next(&mut self) {}
+
+    /// The latest decision as a view shows it.
+    fn describe(&self, _skills: &SkillStatus, out: &mut DecisionView) {
+        out.tree = None;
+    }
+
+    /// The tree being run and its library generation (for a view's drawing of it).
+    fn running_tree(&self) -> Option<(u64, Arc<libero_behavior::CompiledTree>)> {
         None
     }
 }
@@ -71,6 +85,9 @@ pub struct TreeDecider {
     skills: SkillStatus,
     /// The active path last logged (`RUST_LOG=libero_agent::decide=debug` logs each change).
     logged_path: Option<String>,
+    /// Whether the next decision keeps its notes, and the notes kept.
+    want_notes: bool,
+    notes: Option<DecisionNotes>,
 }
 
 impl TreeDecider {
@@ -84,6 +101,8 @@ impl TreeDecider {
             unum,
             skills: SkillStatus::default(),
             logged_path: None,
+            want_notes: false,
+            notes: None,
         }
     }
 
@@ -136,6 +155,9 @@ impl Decider for TreeDecider {
                 &mut intent,
             );
             runner.tick(&mut host, &library);
+            if std::mem::take(&mut self.want_notes) {
+                self.notes = Some(host.notes());
+            }
             intent.time_to_ball_s = self.memory.time_to_ball.take();
         }
         if log::log_enabled!(log::Level::Debug) {
@@ -157,6 +179,19 @@ impl Decider for TreeDecider {
 
     fn observe(&mut self, status: &SkillStatus) {
         self.skills = *status;
+    }
+
+    fn note_next(&mut self) {
+        self.want_notes = true;
+    }
+
+    fn describe(&self, skills: &SkillStatus, out: &mut DecisionView) {
+        out.fill(self.notes.as_ref(), self.runner.as_ref(), skills);
+    }
+
+    fn running_tree(&self) -> Option<(u64, Arc<libero_behavior::CompiledTree>)> {
+        let runner = self.runner.as_ref()?;
+        Some((runner.generation(), Arc::clone(runner.tree())))
     }
 
     fn trace_line(&self) -> Option<String> {

@@ -16,6 +16,7 @@ pub mod run;
 pub mod skill_source;
 pub mod stats;
 pub mod team;
+pub mod view;
 
 pub use decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
 pub use player::Player;
@@ -23,3 +24,4 @@ pub use run::{run_agent, AgentConfig, AgentError, JoinGate};
 pub use skill_source::{LiveSkillParams, ParamsEvent, SkillSource};
 pub use stats::AgentStats;
 pub use team::{simspark_team_types, Team};
+pub use view::{AgentView, DecisionView, TreeShape, ViewSlot};

@@ -4,6 +4,7 @@ use crate::actuate::write_actions;
 use crate::decide::Decider;
 use crate::skill_source::SkillSource;
 use crate::stats::AgentStats;
+use crate::view::{DecisionView, TreeShape, ViewSlot, ViewTap};
 use libero_model::RobotModel;
 use libero_protocol::{parse_percept, ActionWriter};
 use libero_skills::{Intent, JointTargets, Skills};
@@ -36,12 +37,26 @@ pub struct Player {
     skill_generation: u64,
     /// Percept payloads still to be recorded into the stats.
     to_record: usize,
+    /// Where a field view reads this player's beliefs and decision, if one watches.
+    view: Option<ViewTap>,
+    /// The latest decision as a view or the log shows it (its room reused).
+    decision: DecisionView,
 }
 
 /// Where the evaluation log goes and whether it carries decision traces.
 struct EvalLog {
     logger: EvalLogger,
     with_trace: bool,
+    /// The tree (generation and pointer) whose shape the log last carried.
+    shape_logged: Option<(u64, usize)>,
+}
+
+/// What a traced log line adds for a replayed view.
+#[derive(serde::Serialize)]
+struct LoggedDecision<'a> {
+    decision: &'a DecisionView,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    tree_shape: Option<TreeShape>,
 }
 
 impl Player {
@@ -75,7 +90,14 @@ impl Player {
             skill_source: SkillSource::Builtin,
             skill_generation: 0,
             to_record: 0,
+            view: None,
+            decision: DecisionView::default(),
         }
+    }
+
+    /// Copy this player's view into `slot` (at most once per the slot's period).
+    pub fn show_in(&mut self, slot: Arc<ViewSlot>) {
+        self.view = Some(ViewTap::new(slot));
     }
 
     /// Keep the next `limit` percept payloads in the stats ([`AgentStats::take_recording`]).
@@ -129,7 +151,11 @@ impl Player {
     /// Write one evaluation-log line per cycle (estimates, ground truth, optionally the
     /// decision trace) to `logger`.
     pub fn log_to(&mut self, logger: EvalLogger, with_trace: bool) {
-        self.eval_log = Some(EvalLog { logger, with_trace });
+        self.eval_log = Some(EvalLog {
+            logger,
+            with_trace,
+            shape_logged: None,
+        });
     }
 
     pub fn stats(&self) -> &Arc<AgentStats> {
@@ -201,7 +227,24 @@ impl Player {
             }
         }
         stopwatch.lap(&self.stats.stages.world_ns);
+        let view_due = self.view.as_mut().is_some_and(ViewTap::due);
+        let log_decision = self.eval_log.as_ref().is_some_and(|l| l.with_trace);
+        if view_due || log_decision {
+            self.decider.note_next();
+        }
         self.intent = self.decider.decide(&self.world);
+        if view_due || log_decision {
+            self.decider
+                .describe(&self.skills.status(), &mut self.decision);
+        }
+        if view_due {
+            if let Some(view) = &self.view {
+                if let Some((generation, tree)) = self.decider.running_tree() {
+                    view.slot.publish_shape(generation, &tree);
+                }
+                view.slot.publish(&self.world, Some(&self.decision));
+            }
+        }
         self.tell_teammates();
         if self.share_trace {
             if let Ok(mut trace) = self.stats.trace.lock() {
@@ -214,7 +257,24 @@ impl Player {
             } else {
                 None
             };
-            if let Err(e) = log.logger.write_with_trace(&self.world, trace.as_deref()) {
+            let extra = log.with_trace.then(|| {
+                let running = self.decider.running_tree();
+                let key = running
+                    .as_ref()
+                    .map(|(g, tree)| (*g, Arc::as_ptr(tree) as usize));
+                let tree_shape = (key.is_some() && key != log.shape_logged)
+                    .then(|| running.map(|(g, tree)| TreeShape::of(&tree, g)))
+                    .flatten();
+                log.shape_logged = key;
+                LoggedDecision {
+                    decision: &self.decision,
+                    tree_shape,
+                }
+            });
+            if let Err(e) = log
+                .logger
+                .write_record(&self.world, trace.as_deref(), extra.as_ref())
+            {
                 log::error!(
                     "agent {}: evaluation log stopped: {e}",
                     self.world.game.unum

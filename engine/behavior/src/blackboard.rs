@@ -39,6 +39,18 @@ impl Blackboard {
         next
     }
 
+    /// Every entry, in slot order (the order of the library's declarations).
+    pub fn entries(&self) -> impl Iterator<Item = (&str, &Value)> {
+        let mut keys: Vec<(&str, u32)> = self
+            .keys
+            .iter()
+            .map(|(k, (slot, _))| (k.as_str(), *slot))
+            .collect();
+        keys.sort_by_key(|(_, slot)| *slot);
+        keys.into_iter()
+            .map(move |(k, slot)| (k, &self.values[slot as usize]))
+    }
+
     pub fn get(&self, key: &str) -> Option<&Value> {
         self.keys
             .get(key)

@@ -98,6 +98,11 @@ impl CompiledTree {
     pub fn label(&self, node: u32) -> &str {
         &self.nodes[node as usize].label
     }
+
+    /// Each node's parent (preorder index; `None` for the root), for drawing the tree.
+    pub fn parents(&self) -> impl Iterator<Item = Option<u32>> + '_ {
+        self.nodes.iter().map(|n| n.parent)
+    }
 }
 
 /// Typed blackboard entries shared by all trees of a library.

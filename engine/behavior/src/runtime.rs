@@ -38,6 +38,9 @@ struct NodeState {
     started: f64,
     last_success: f64,
     choice: u32,
+    /// The score this node last had as a choice of a `Utility` parent (NaN otherwise), for
+    /// views of the running tree.
+    utility_score: f64,
 }
 
 impl NodeState {
@@ -48,6 +51,7 @@ impl NodeState {
         started: f64::NAN,
         last_success: f64::NEG_INFINITY,
         choice: NO_CHOICE,
+        utility_score: f64::NAN,
     };
 }
 
@@ -112,6 +116,18 @@ impl TreeRunner {
     }
     pub fn library(&self) -> &Arc<Library> {
         &self.library
+    }
+    /// The compiled tree being run (node labels and shape, for views).
+    pub fn tree(&self) -> &Arc<CompiledTree> {
+        &self.tree
+    }
+    /// The score `node` had in its `Utility` parent's last choice (hysteresis included), if it
+    /// is such a choice and was scored.
+    pub fn utility_score(&self, node: u32) -> Option<f64> {
+        self.states
+            .get(node as usize)
+            .map(|s| s.utility_score)
+            .filter(|s| !s.is_nan())
     }
     pub fn generation(&self) -> u64 {
         self.library.generation()
@@ -337,6 +353,7 @@ impl<H: Host> Ticker<'_, H> {
                     if k as u32 == current {
                         score += hysteresis;
                     }
+                    self.states[node.children[k] as usize].utility_score = score;
                     if score > best.1 {
                         best = (k as u32, score);
                     }

@@ -174,7 +174,7 @@ impl Serialize for Value {
 }
 
 /// The outcome of ticking a node.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, serde::Deserialize)]
 pub enum Status {
     Running,
     Success,

@@ -91,6 +91,13 @@ impl Monitor {
         self.state.lock().map(|s| s.clone()).unwrap_or_default()
     }
 
+    /// A reader of the newest game state for another thread (a field view), valid while the
+    /// connection lives and frozen after it.
+    pub fn reader(&self) -> impl Fn() -> GameSnapshot + Send + Sync + 'static {
+        let state = Arc::clone(&self.state);
+        move || state.lock().map(|s| s.clone()).unwrap_or_default()
+    }
+
     /// Send raw monitor commands, e.g. `(kickOff Left)`.
     pub fn send(&mut self, commands: &str) -> std::io::Result<()> {
         let mut out = Vec::with_capacity(commands.len() + 4);

@@ -18,7 +18,7 @@ pub use files::{
     parse_formation, AvoidanceParams, DefenseLine, Field, Formation, GoalkeeperParams, Role,
     Sample, ShotParams, Situation, Strategy, StrategyFiles, TeamParams,
 };
-pub use natives::{catalogue, vocabulary, AgentHost, Natives, PlayerMemory};
+pub use natives::{catalogue, vocabulary, AgentHost, DecisionNotes, Natives, PlayerMemory};
 
 use libero_behavior::{Library, Report};
 use std::path::PathBuf;

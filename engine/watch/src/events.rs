@@ -64,6 +64,14 @@ impl<T> Events<T> {
         self.arrived.notify_all();
     }
 
+    /// A copy of the newest event not yet taken, leaving the queue as it is (a viewer's peek).
+    pub fn newest(&self) -> Option<T>
+    where
+        T: Clone,
+    {
+        self.lock().items.back().cloned()
+    }
+
     /// Every event not yet taken, oldest first.
     pub fn drain(&self) -> Vec<T> {
         self.lock().items.drain(..).collect()

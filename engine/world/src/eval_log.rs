@@ -22,7 +22,7 @@ struct Truth {
 }
 
 #[derive(Serialize)]
-struct Record<'a> {
+struct Record<'a, X: Serialize> {
     time: f64,
     cycle: u64,
     team: &'a str,
@@ -37,6 +37,9 @@ struct Record<'a> {
     /// The decision trace of the cycle (active leaves and their statuses), when requested.
     #[serde(skip_serializing_if = "Option::is_none")]
     trace: Option<&'a str>,
+    /// Whatever else the caller logs (the decision a field view replays), flattened in.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    extra: Option<&'a X>,
 }
 
 /// Writes one line per [`EvalLogger::write`] call; flushes on drop.
@@ -67,6 +70,16 @@ impl<W: Write> EvalLogger<W> {
 
     /// Append the current cycle with the decision trace that produced its intent.
     pub fn write_with_trace(&mut self, world: &World, trace: Option<&str>) -> std::io::Result<()> {
+        self.write_record::<()>(world, trace, None)
+    }
+
+    /// Append the current cycle with the trace and `extra`'s fields (an object) merged in.
+    pub fn write_record<X: Serialize>(
+        &mut self,
+        world: &World,
+        trace: Option<&str>,
+        extra: Option<&X>,
+    ) -> std::io::Result<()> {
         let record = Record {
             time: world.time,
             cycle: world.cycle,
@@ -83,6 +96,7 @@ impl<W: Write> EvalLogger<W> {
                 .truth_pose()
                 .map(|(position, yaw_deg)| Truth { position, yaw_deg }),
             trace,
+            extra,
         };
         self.buffer.clear();
         // Non-finite numbers (an unknown σ) become `null`, keeping every line valid JSON.

@@ -27,6 +27,8 @@ pub struct AgentArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub log: LogArgs,
+    #[command(flatten)]
+    pub view: super::view::ViewArgs,
 }
 
 pub fn run(args: AgentArgs) -> CliResult {
@@ -35,6 +37,12 @@ pub fn run(args: AgentArgs) -> CliResult {
     let skills = args.data.skills(&model)?;
     let mut player = build_player(&model, &args.team, args.unum, &source, &skills)?;
     args.log.attach(&mut player, &args.team, args.unum, false)?;
+    let view =
+        super::view::LiveView::start(&args.view, super::view::field_of(&source), &args.data)?;
+    if let Some(view) = &view {
+        view.show(&mut player);
+        view.watch_library(&args.team, &source);
+    }
     let shutdown = ctrl_c_flag();
     run_agent(
         &AgentConfig::new(&args.host, args.port),

@@ -24,6 +24,9 @@ pub enum Measure {
     /// run (`--duration` s of play, 10 with `--short`); the ratio, the server's CPU per cycle
     /// and the peak RSS.
     Cycle,
+    /// What the field view costs: agent CPU per cycle with the view off and on (a viewer
+    /// connected), in alternating phases of one run (`--duration` s of play, 20 with `--short`).
+    View,
 }
 
 #[derive(Args)]
@@ -63,6 +66,14 @@ pub fn run(args: BenchArgs) -> CliResult {
         Measure::Cycle => {
             let play_s = if args.short { 10.0 } else { args.duration };
             super::bench_cycle::bench_cycle(args.players.clamp(1, 7), play_s, &args.data)
+        }
+        Measure::View => {
+            let (play_s, phases) = if args.short {
+                (20.0, 4)
+            } else {
+                (args.duration, 10)
+            };
+            super::bench_view::bench_view(args.players.clamp(1, 7), play_s, phases, &args.data)
         }
     }
 }

@@ -63,7 +63,7 @@ fn threads_stats(prefix: &str) -> impl Iterator<Item = String> + '_ {
 }
 
 /// CPU seconds of this process's threads whose name starts with `prefix`.
-fn threads_cpu(prefix: &str) -> f64 {
+pub(super) fn threads_cpu(prefix: &str) -> f64 {
     threads_stats(prefix).filter_map(|s| cpu_seconds(&s)).sum()
 }
 

@@ -26,11 +26,18 @@ pub struct TeamArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub log: LogArgs,
+    #[command(flatten)]
+    pub view: super::view::ViewArgs,
 }
 
 pub fn run(args: TeamArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
     let source = args.data.source()?;
+    let view =
+        super::view::LiveView::start(&args.view, super::view::field_of(&source), &args.data)?;
+    if let Some(view) = &view {
+        view.watch_library(&args.team, &source);
+    }
     let mut players = Vec::new();
     // One parameter file (and watcher) for the whole team, checked against the first robot:
     // every NAO type shares nao.ron.
@@ -53,6 +60,9 @@ pub fn run(args: TeamArgs) -> CliResult {
         };
         let mut player = build_player(&model, &args.team, unum, &source, skills)?;
         args.log.attach(&mut player, &args.team, unum, true)?;
+        if let Some(view) = &view {
+            view.show(&mut player);
+        }
         players.push(player);
     }
     let team = Team::start(

@@ -141,3 +141,59 @@ impl AgentHost<'_> {
         out
     }
 }
+
+/// What a tick decided with, in the global field frame, for a view of the running team (read
+/// after the tick; computing it does not change the player's memory).
+#[derive(Debug, Clone, Default)]
+pub struct DecisionNotes {
+    /// The formation slot held (by its default uniform number) and its role's name.
+    pub slot: u8,
+    pub role: arrayvec::ArrayString<32>,
+    /// Where the formation puts this player now.
+    pub formation_target: Option<Global>,
+    /// The goalkeeper's defense point (keeper only).
+    pub defense_point: Option<Global>,
+    /// The shot target this tick chose, with its probability of scoring, when a node asked.
+    pub shot: Option<(Global, f64)>,
+}
+
+impl AgentHost<'_> {
+    /// The notes of this tick: the slot the tree used (its own number when no node asked: an
+    /// assignment here would step the roles' hysteresis), the formation target, the keeper's
+    /// defense point and the shot a node chose.
+    pub fn notes(&self) -> DecisionNotes {
+        let slot = self.tick.slot.get().copied().unwrap_or_else(|| self.unum());
+        let situation = self.situation();
+        let mut role = arrayvec::ArrayString::new();
+        if let Some(r) = self
+            .strategy
+            .formation_for(situation)
+            .and_then(|f| f.roles.iter().find(|r| r.unum == slot))
+        {
+            let end = r.name.len().min(role.capacity());
+            // A role name cut at a character boundary.
+            let end = (0..=end)
+                .rev()
+                .find(|&i| r.name.is_char_boundary(i))
+                .unwrap_or(0);
+            role.push_str(&r.name[..end]);
+        }
+        let formation_target = self
+            .strategy
+            .position(situation, slot, value(self.ball()))
+            .map(|p| self.global_of(own(p)));
+        let defense_point = (self.unum() == 1).then(|| self.global_of(self.defense_point()));
+        let shot = self
+            .tick
+            .best_shot
+            .get()
+            .map(|choice| (self.global_of(choice.target), choice.probability));
+        DecisionNotes {
+            slot,
+            role,
+            formation_target,
+            defense_point,
+            shot,
+        }
+    }
+}

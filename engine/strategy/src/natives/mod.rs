@@ -18,7 +18,7 @@ mod set_plays;
 mod shooting;
 mod team_play;
 
-pub use host::{AgentHost, PlayerMemory};
+pub use host::{AgentHost, DecisionNotes, PlayerMemory};
 
 use libero_behavior::{
     Args, Host, NativeId, NativeKind, NodeSpec, Status, Value, Vec2, Vocabulary,

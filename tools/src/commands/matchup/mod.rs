@@ -60,6 +60,8 @@ pub struct MatchArgs {
     pub data: DataArgs,
     #[command(flatten)]
     pub log: LogArgs,
+    #[command(flatten)]
+    pub view: super::view::ViewArgs,
 }
 
 /// One half as the report shows it.
@@ -109,7 +111,7 @@ pub fn run(args: MatchArgs) -> CliResult {
         (Some(dir), None) => {
             TeamSetup::ours(&args.away_name, DataArgs::from_team_dir(dir, &args.data)?)
         }
-        (None, None) => TeamSetup::ours(&args.away_name, home_data),
+        (None, None) => TeamSetup::ours(&args.away_name, home_data.clone()),
     };
     if home.name == away.name {
         return Err("the two teams need different names (--home-name, --away-name)".into());
@@ -123,6 +125,7 @@ pub fn run(args: MatchArgs) -> CliResult {
         half_length,
         goal_half_width: field.goal_width / 2.0,
     };
+    let view = super::view::LiveView::start(&args.view, field.clone(), &home_data)?;
     let shutdown = ctrl_c_flag();
     let mut halves = Vec::new();
     let halves_to_play = if args.full { 2 } else { 1 };
@@ -133,7 +136,7 @@ pub fn run(args: MatchArgs) -> CliResult {
         } else {
             [&away, &home]
         };
-        let report = play_half(&args, half, order, goals, &shutdown)?;
+        let report = play_half(&args, half, order, goals, &shutdown, view.as_ref())?;
         halves.push(report);
         if shutdown.load(Ordering::Relaxed) {
             break;
@@ -156,7 +159,11 @@ fn play_half(
     order: [&TeamSetup; 2],
     goals: Goals,
     shutdown: &std::sync::Arc<std::sync::atomic::AtomicBool>,
+    view: Option<&super::view::LiveView>,
 ) -> Result<HalfReport, Box<dyn std::error::Error>> {
+    if let Some(view) = view {
+        view.set.clear();
+    }
     println!(
         "half {half}: starting rcssservermj ({} mode)…",
         if args.realtime { "real-time" } else { "fast" }
@@ -173,7 +180,7 @@ fn play_half(
     let mut entries: Vec<TeamEntry> = Vec::new();
     for setup in order {
         // Connect one team after the other: the first team the server hears from plays left.
-        let entry = setup.start(port, args.players, &args.log, &half_over)?;
+        let entry = setup.start(port, args.players, &args.log, &half_over, view)?;
         entry.wait_joined(Duration::from_secs(90), shutdown);
         entries.push(entry);
     }
@@ -188,6 +195,21 @@ fn play_half(
         entries[1 - left_index].name.clone(),
     ];
     let monitor = server.monitor();
+    if let Some(view) = view {
+        let read = monitor.reader();
+        let teams = names.clone();
+        view.set.set_monitor(Some(std::sync::Arc::new(move || {
+            let s = read();
+            Some(libero_view::MonitorView {
+                time: s.time,
+                half: s.half,
+                score: [s.score_left, s.score_right],
+                play_mode: s.play_mode,
+                ball: s.ball,
+                teams: teams.clone(),
+            })
+        })));
+    }
     // A second of play time for the beams to settle, on the server's clock: a wall-clock pause
     // left a loaded machine's robots less settled and the kick-off slower (3.96 s vs 2.28 s).
     let joined_at = monitor.snapshot().time;

@@ -45,16 +45,23 @@ impl TeamSetup {
         log: &LogArgs,
         // This half's own flag: stopping the team must not stop the match.
         shutdown: &Arc<AtomicBool>,
+        view: Option<&super::super::view::LiveView>,
     ) -> Result<TeamEntry, Box<dyn std::error::Error>> {
         let running = match &self.kind {
             Kind::Ours(data) => {
                 let source = data.source()?;
+                if let Some(view) = view {
+                    view.watch_library(&self.name, &source);
+                }
                 let model = load_robot("T1", None)?;
                 let skills = data.skills(&model)?;
                 let mut team = Vec::new();
                 for unum in 1..=players {
                     let mut player = build_player(&model, &self.name, unum, &source, &skills)?;
                     log.attach(&mut player, &self.name, unum, true)?;
+                    if let Some(view) = view {
+                        view.show(&mut player);
+                    }
                     team.push(player);
                 }
                 println!("team {}: {players} players joining…", self.name);

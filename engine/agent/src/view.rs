@@ -1,0 +1,334 @@
+//! What a field view shows of one agent: its beliefs and its decision, copied out of the
+//! per-cycle pipe at most every [`ViewSlot::period`] into a slot that a viewer thread reads.
+//!
+//! The records use the evaluation log's field names (`me.position`, `ball.predicted_stop`,
+//! `players[].relation`, `truth.position`, …) so that a view reads live slots and logged lines
+//! alike: a log line deserializes into an [`AgentView`].
+
+use libero_behavior::{CompiledTree, Status, TreeRunner};
+use libero_skills::SkillStatus;
+use libero_strategy::DecisionNotes;
+use libero_world::World;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// One agent's picture for a viewer. Every field is reused from copy to copy.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct AgentView {
+    pub time: f64,
+    pub cycle: u64,
+    pub team: String,
+    pub unum: u32,
+    /// `"Left"` or `"Right"` once the server has said.
+    pub side: Option<String>,
+    pub play_mode: String,
+    /// Goals (left, right) as the agent heard them.
+    #[serde(default)]
+    pub score: [u32; 2],
+    pub me: SelfView,
+    pub ball: Option<BallView>,
+    #[serde(default)]
+    pub players: Vec<PlayerView>,
+    pub truth: Option<TruthView>,
+    #[serde(default)]
+    pub decision: Option<DecisionView>,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct SelfView {
+    pub position: [f64; 2],
+    pub yaw_deg: f64,
+    #[serde(default)]
+    pub localized: bool,
+    #[serde(default)]
+    pub fallen: bool,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct BallView {
+    pub position: [f64; 2],
+    pub velocity: [f64; 2],
+    pub predicted_stop: [f64; 2],
+    pub last_seen_time: Option<f64>,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct PlayerView {
+    /// `"Teammate"` or `"Opponent"`.
+    pub relation: String,
+    pub unum: u32,
+    pub position: [f64; 2],
+    #[serde(default)]
+    pub last_update_time: f64,
+    #[serde(default)]
+    pub fallen: bool,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct TruthView {
+    pub position: [f64; 3],
+    pub yaw_deg: f64,
+}
+
+/// The decision of the cycle: strategy notes, the tree's statuses, blackboard and skill.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct DecisionView {
+    pub slot: u8,
+    pub role: String,
+    pub formation_target: Option<[f64; 2]>,
+    pub defense_point: Option<[f64; 2]>,
+    pub shot_target: Option<[f64; 2]>,
+    pub shot_probability: Option<f64>,
+    pub tree: Option<TreeStatus>,
+    #[serde(default)]
+    pub blackboard: Vec<(String, String)>,
+    /// The active skill and its state (`Kick approaching`, `Walk`, …).
+    #[serde(default)]
+    pub skill: String,
+}
+
+/// Which nodes of the running tree were ticked this cycle and what they returned.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct TreeStatus {
+    pub name: String,
+    /// The library generation: the shape to draw is that generation's tree of this name.
+    pub generation: u64,
+    /// `(node, status)` for each node ticked, preorder; nodes not listed were not ticked.
+    pub ticked: Vec<(u32, Status)>,
+    /// `(node, score)` of the choices that their `Utility` parent scored.
+    pub scores: Vec<(u32, f64)>,
+}
+
+/// A tree's shape as a view draws it: labels and parents in preorder.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TreeShape {
+    pub name: String,
+    pub generation: u64,
+    pub labels: Vec<String>,
+    pub parents: Vec<Option<u32>>,
+}
+
+impl TreeShape {
+    pub fn of(tree: &CompiledTree, generation: u64) -> Self {
+        Self {
+            name: tree.name.clone(),
+            generation,
+            labels: tree.nodes.iter().map(|n| n.label.clone()).collect(),
+            parents: tree.parents().collect(),
+        }
+    }
+}
+
+impl DecisionView {
+    /// Fill from the strategy's notes, the runner and the skills (reusing this view's room).
+    pub fn fill(
+        &mut self,
+        notes: Option<&DecisionNotes>,
+        runner: Option<&TreeRunner>,
+        skills: &SkillStatus,
+    ) {
+        if let Some(notes) = notes {
+            self.slot = notes.slot;
+            self.role.clear();
+            self.role.push_str(&notes.role);
+            self.formation_target = notes.formation_target.map(|p| p.to_array());
+            self.defense_point = notes.defense_point.map(|p| p.to_array());
+            self.shot_target = notes.shot.map(|(p, _)| p.to_array());
+            self.shot_probability = notes.shot.map(|(_, p)| p);
+        }
+        self.skill.clear();
+        let _ = write!(self.skill, "{:?}", skills.active);
+        match skills.active {
+            libero_skills::ActiveSkill::Kick => {
+                let _ = write!(self.skill, " {:?}", skills.kick);
+            }
+            libero_skills::ActiveSkill::Dribble => {
+                let _ = write!(self.skill, " {:?}", skills.dribble);
+            }
+            _ => {}
+        }
+        let Some(runner) = runner else {
+            self.tree = None;
+            self.blackboard.clear();
+            return;
+        };
+        let tree = self.tree.get_or_insert_with(TreeStatus::default);
+        tree.name.clear();
+        tree.name.push_str(&runner.tree().name);
+        tree.generation = runner.generation();
+        tree.ticked.clear();
+        tree.scores.clear();
+        if let Some(record) = runner.trace().last() {
+            for entry in record.entries() {
+                tree.ticked.push((entry.node, entry.status));
+                if let Some(score) = runner.utility_score(entry.node) {
+                    tree.scores.push((entry.node, score));
+                }
+            }
+        }
+        let entries = runner.blackboard().entries();
+        let mut count = 0;
+        for (key, value) in entries {
+            if count == self.blackboard.len() {
+                self.blackboard.push((String::new(), String::new()));
+            }
+            let (k, v) = &mut self.blackboard[count];
+            k.clear();
+            k.push_str(key);
+            v.clear();
+            let _ = write!(v, "{value}");
+            count += 1;
+        }
+        self.blackboard.truncate(count);
+    }
+}
+
+impl AgentView {
+    /// Copy the world's beliefs (and, when given, the decision) into this view.
+    pub fn fill(&mut self, world: &World, decision: Option<&DecisionView>) {
+        self.time = world.time;
+        self.cycle = world.cycle;
+        self.team.clear();
+        self.team.push_str(&world.game.team);
+        self.unum = world.game.unum;
+        self.side = world.game.side.map(|s| format!("{s:?}"));
+        self.play_mode.clear();
+        self.play_mode.push_str(&world.game.play_mode_name);
+        self.score = [world.game.score_left, world.game.score_right];
+        self.me = SelfView {
+            position: world.me.position,
+            yaw_deg: world.me.yaw_deg,
+            localized: world.me.localized,
+            fallen: world.body.posture != libero_world::Posture::Upright,
+        };
+        let ball_known = world.ball.last_seen_time.is_some() || world.ball.heard_time.is_some();
+        self.ball = ball_known.then_some(BallView {
+            position: world.ball.position,
+            velocity: world.ball.velocity,
+            predicted_stop: world.ball.predicted_stop,
+            last_seen_time: world.ball.last_seen_time,
+        });
+        self.players.clear();
+        self.players
+            .extend(world.players.known.iter().map(|p| PlayerView {
+                relation: format!("{:?}", p.relation),
+                unum: p.unum,
+                position: p.position,
+                last_update_time: p.last_update_time,
+                fallen: p.fallen,
+            }));
+        self.truth = world
+            .truth_pose()
+            .map(|(position, yaw_deg)| TruthView { position, yaw_deg });
+        match (decision, &mut self.decision) {
+            (Some(d), Some(mine)) => mine.clone_from(d),
+            (Some(d), None) => self.decision = Some(d.clone()),
+            (None, _) => self.decision = None,
+        }
+    }
+}
+
+/// Where one agent puts its view for a viewer: the latest copy and the tree shapes it ran.
+pub struct ViewSlot {
+    latest: Mutex<AgentView>,
+    shape: Mutex<Option<(u64, Arc<CompiledTree>)>>,
+    /// Copies made so far (a viewer sends a frame only when this moved).
+    copies: AtomicU64,
+    period: Duration,
+    /// Whether the agent copies at all (a benchmark turns it off and on in one run).
+    enabled: std::sync::atomic::AtomicBool,
+}
+
+impl ViewSlot {
+    /// A viewer's stream runs at most 25 frames a second: copying more often is waste.
+    pub const DEFAULT_PERIOD: Duration = Duration::from_millis(40);
+
+    pub fn new(period: Duration) -> Arc<Self> {
+        Arc::new(Self {
+            latest: Mutex::new(AgentView::default()),
+            shape: Mutex::new(None),
+            copies: AtomicU64::new(0),
+            period,
+            enabled: std::sync::atomic::AtomicBool::new(true),
+        })
+    }
+
+    /// Stop or resume copying (the agent then skips even the clock check).
+    pub fn set_enabled(&self, enabled: bool) {
+        self.enabled.store(enabled, Ordering::Relaxed);
+    }
+
+    /// How often the agent copies its view.
+    pub fn period(&self) -> Duration {
+        self.period
+    }
+
+    /// Copies made so far.
+    pub fn copies(&self) -> u64 {
+        self.copies.load(Ordering::Relaxed)
+    }
+
+    /// The latest view, copied (for the viewer thread; the agent never waits long for it).
+    pub fn latest(&self) -> Option<AgentView> {
+        if self.copies() == 0 {
+            return None;
+        }
+        self.latest.lock().ok().map(|v| v.clone())
+    }
+
+    /// The shape of the tree the agent runs, when it is the given generation's.
+    pub fn shape(&self, generation: u64) -> Option<TreeShape> {
+        let guard = self.shape.lock().ok()?;
+        let (g, tree) = guard.as_ref()?;
+        (*g == generation).then(|| TreeShape::of(tree, *g))
+    }
+
+    pub(crate) fn publish(&self, world: &World, decision: Option<&DecisionView>) {
+        if let Ok(mut latest) = self.latest.lock() {
+            latest.fill(world, decision);
+        }
+        self.copies.fetch_add(1, Ordering::Relaxed);
+    }
+
+    pub(crate) fn publish_shape(&self, generation: u64, tree: &Arc<CompiledTree>) {
+        if let Ok(mut shape) = self.shape.lock() {
+            if shape
+                .as_ref()
+                .is_none_or(|(g, t)| *g != generation || !Arc::ptr_eq(t, tree))
+            {
+                *shape = Some((generation, Arc::clone(tree)));
+            }
+        }
+    }
+}
+
+/// The agent's side of a slot: when the next copy is due.
+pub(crate) struct ViewTap {
+    pub slot: Arc<ViewSlot>,
+    next: Instant,
+}
+
+impl ViewTap {
+    pub fn new(slot: Arc<ViewSlot>) -> Self {
+        Self {
+            slot,
+            next: Instant::now(),
+        }
+    }
+
+    /// Whether this cycle copies (at most once per period of wall time).
+    pub fn due(&mut self) -> bool {
+        if !self.slot.enabled.load(Ordering::Relaxed) {
+            return false;
+        }
+        let now = Instant::now();
+        if now < self.next {
+            return false;
+        }
+        self.next = now + self.slot.period;
+        true
+    }
+}
