@@ -199,6 +199,16 @@ const DRAWN: &str = r#"(() => {
   }));
 })()"#;
 
+/// Where the page drew the selected agent's ball estimate, in field metres (null if not).
+const BALL_DRAWN: &str = r#"(() => {
+  const o = document.getElementById('outline').getBoundingClientRect();
+  const L = info.field.length / 2, W = info.field.width / 2;
+  const b = document.getElementById('ball-estimate');
+  if (!b) return JSON.stringify([null, null]);
+  const r = b.getBoundingClientRect();
+  return JSON.stringify([(r.left + r.width / 2 - o.left) / o.width * 2 * L - L, W - (r.top + r.height / 2 - o.top) / o.height * 2 * W]);
+})()"#;
+
 /// An evaluation log's records by cycle.
 fn log_by_cycle(path: &Path) -> HashMap<u64, Value> {
     std::fs::read_to_string(path)
@@ -307,6 +317,7 @@ fn the_live_view_draws_the_match_as_logged_and_a_replay_steps_through_the_logs()
             running: [...document.querySelectorAll('#tree .node[data-status=running]')].map((n) => n.firstChild.textContent) })"#,
     );
     let drawn = eval(&tab, DRAWN);
+    let ball = eval(&tab, BALL_DRAWN);
     screenshot(&tab, "view-live.png");
     assert_eq!(page["left"], truth.score_left, "{page}");
     assert_eq!(page["right"], truth.score_right, "{page}");
@@ -334,8 +345,30 @@ fn the_live_view_draws_the_match_as_logged_and_a_replay_steps_through_the_logs()
 
     // Every robot drawn where its agent's log says it believed it was in that cycle.
     assert_eq!(assert_drawn_as_logged(&drawn, &logs, "l"), 6, "{drawn}");
-    // The selected agent's tree: the leaves the page shows running are the trace's.
+    // The selected agent's ball estimate too.
     let log = log_by_cycle(&logs.join("l.Libero.3"));
+    let selected_cycle = drawn
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["team"] == "Libero" && r["unum"] == 3)
+        .unwrap()["cycle"]
+        .as_u64()
+        .unwrap();
+    let logged_ball = &log[&selected_cycle]["ball"]["position"];
+    let (bx, by) = (
+        ball[0].as_f64().expect("the ball is drawn"),
+        ball[1].as_f64().unwrap(),
+    );
+    let (lx, ly) = (
+        logged_ball[0].as_f64().unwrap(),
+        logged_ball[1].as_f64().unwrap(),
+    );
+    assert!(
+        (bx - lx).hypot(by - ly) <= 0.2,
+        "ball drawn at ({bx:.2}, {by:.2}), logged at ({lx:.2}, {ly:.2})"
+    );
+    // The selected agent's tree: the leaves the page shows running are the trace's.
     let cycle = page["tree_cycle"].as_u64().unwrap();
     let trace = log[&cycle]["trace"].as_str().unwrap().to_string();
     let running_leaves: Vec<&str> = page["running"]
@@ -607,6 +640,28 @@ fn the_formation_editor_writes_the_file_by_span_and_the_running_player_follows()
                 return Math.hypot(t[0] - {}, t[1] - {}) < 0.3; }})()",
             moved[0], moved[1]
         ),
+        Duration::from_secs(10),
+    );
+
+    // The files panel names the reload that took the edit up.
+    wait_until(
+        &tab,
+        "[...document.querySelectorAll('#files tr.accepted')].some((r) => r.textContent.includes('kickoff.ron') && r.textContent.includes('taken'))",
+        Duration::from_secs(10),
+    );
+    // A broken edit made by hand is shown refused, with the diagnostic naming the file.
+    let shot = team.path().join("formations/shot.ron");
+    let shot_text = std::fs::read_to_string(&shot).unwrap();
+    std::fs::write(&shot, format!("{shot_text}\n)) not RON\n")).unwrap();
+    wait_until(
+        &tab,
+        "[...document.querySelectorAll('#files tr.rejected')].some((r) => r.textContent.includes('shot.ron') && r.textContent.includes('refused')) && document.getElementById('files').textContent.includes('error')",
+        Duration::from_secs(10),
+    );
+    std::fs::write(&shot, &shot_text).unwrap();
+    wait_until(
+        &tab,
+        "[...document.querySelectorAll('#files tr.accepted')].some((r) => r.textContent.includes('shot.ron'))",
         Duration::from_secs(10),
     );
 

@@ -85,9 +85,12 @@ pub struct DecisionView {
     pub tree: Option<TreeStatus>,
     #[serde(default)]
     pub blackboard: Vec<(String, String)>,
-    /// The active skill and its state (`Kick approaching`, `Walk`, …).
+    /// The active skill and its state (`Kick Approaching`, `Walk`, …).
     #[serde(default)]
     pub skill: String,
+    /// What the decision asked the body for this cycle (`WalkTo { target: [1.20, 0.30], … }`).
+    #[serde(default)]
+    pub intent: String,
 }
 
 /// Which nodes of the running tree were ticked this cycle and what they returned.

@@ -218,6 +218,7 @@ fn frame(shared: &Shared, step: Option<&str>) -> Response<std::io::Cursor<Vec<u8
                     monitor,
                     agents: &agents,
                     reloads: Vec::new(),
+                    files: Vec::new(),
                 },
             )
         }
@@ -233,6 +234,7 @@ fn frame(shared: &Shared, step: Option<&str>) -> Response<std::io::Cursor<Vec<u8
                     monitor,
                     agents: &views,
                     reloads: shared.reloads.list(),
+                    files: shared.reloads.files(),
                 },
             )
         }

@@ -65,12 +65,30 @@ pub struct ReloadNote {
     pub report: String,
 }
 
+/// The last reload that concerned one file: when, whether it was taken, and what
+/// `libero validate` said of that file.
+#[derive(Debug, Clone, Serialize)]
+pub struct FileReload {
+    pub team: String,
+    pub file: String,
+    pub at_s: f64,
+    pub accepted: bool,
+    pub generation: Option<u64>,
+    pub diagnostics: String,
+}
+
+/// Files followed at most (a folder full of junk must not grow the panel without bound).
+const FILES_KEPT: usize = 256;
+
 #[derive(Clone, Default)]
-pub struct Reloads(Arc<Mutex<VecDeque<ReloadNote>>>);
+pub struct Reloads {
+    events: Arc<Mutex<VecDeque<ReloadNote>>>,
+    files: Arc<Mutex<Vec<FileReload>>>,
+}
 
 impl Reloads {
     fn push(&self, note: ReloadNote) {
-        if let Ok(mut notes) = self.0.lock() {
+        if let Ok(mut notes) = self.events.lock() {
             if notes.len() >= RELOADS_KEPT {
                 notes.pop_front();
             }
@@ -78,12 +96,103 @@ impl Reloads {
         }
     }
 
+    fn note_file(&self, entry: FileReload) {
+        let Ok(mut files) = self.files.lock() else {
+            return;
+        };
+        files.retain(|f| !(f.team == entry.team && f.file == entry.file));
+        if files.len() >= FILES_KEPT {
+            // The one reloaded longest ago makes room.
+            if let Some(oldest) =
+                (0..files.len()).min_by(|&a, &b| files[a].at_s.total_cmp(&files[b].at_s))
+            {
+                files.remove(oldest);
+            }
+        }
+        files.push(entry);
+        files.sort_by(|a, b| (&a.team, &a.file).cmp(&(&b.team, &b.file)));
+    }
+
     pub fn list(&self) -> Vec<ReloadNote> {
-        self.0
+        self.events
             .lock()
             .map(|n| n.iter().cloned().collect())
             .unwrap_or_default()
     }
+
+    pub fn files(&self) -> Vec<FileReload> {
+        self.files.lock().map(|f| f.clone()).unwrap_or_default()
+    }
+}
+
+type FileTime = (std::path::PathBuf, Option<std::time::SystemTime>);
+
+/// Modification times of a library's files, to tell which ones a reload took up.
+fn mtimes(library: &libero_behavior::LiveLibrary) -> Vec<FileTime> {
+    library
+        .current()
+        .files()
+        .iter()
+        .map(|f| {
+            (
+                f.clone(),
+                std::fs::metadata(f).and_then(|m| m.modified()).ok(),
+            )
+        })
+        .collect()
+}
+
+/// The files one reload concerned, each with the diagnostics that name it: those whose
+/// modification time moved (or that are new), and those the report names.
+fn file_reloads(
+    team: &str,
+    note: &ReloadNote,
+    event: &ReloadEvent,
+    before: &[FileTime],
+    after: &[FileTime],
+) -> Vec<FileReload> {
+    let report = match event {
+        ReloadEvent::Reloaded { warnings, .. } => warnings,
+        ReloadEvent::Rejected { report } => report,
+    };
+    let mut files: Vec<std::path::PathBuf> = after
+        .iter()
+        .filter(|(f, t)| {
+            before
+                .iter()
+                .find(|(g, _)| g == f)
+                .is_none_or(|(_, u)| u != t)
+        })
+        .map(|(f, _)| f.clone())
+        .collect();
+    for d in &report.diagnostics {
+        if let Some(location) = &d.location {
+            if !files.contains(&location.file.path) {
+                files.push(location.file.path.clone());
+            }
+        }
+    }
+    files
+        .into_iter()
+        .map(|file| {
+            let mine = libero_behavior::Report {
+                diagnostics: report
+                    .diagnostics
+                    .iter()
+                    .filter(|d| d.location.as_ref().is_some_and(|l| l.file.path == file))
+                    .cloned()
+                    .collect(),
+            };
+            FileReload {
+                team: team.to_string(),
+                file: file.display().to_string(),
+                at_s: note.at_s,
+                accepted: note.accepted,
+                generation: note.generation,
+                diagnostics: mine.render_text(),
+            }
+        })
+        .collect()
 }
 
 /// What the page receives each frame (live) or asks for by step (replay).
@@ -96,6 +205,7 @@ pub struct Frame<'a> {
     pub monitor: Option<MonitorView>,
     pub agents: &'a [AgentView],
     pub reloads: Vec<ReloadNote>,
+    pub files: Vec<FileReload>,
 }
 
 fn note_of(team: &str, at_s: f64, event: &ReloadEvent) -> ReloadNote {
@@ -124,6 +234,13 @@ fn note_of(team: &str, at_s: f64, event: &ReloadEvent) -> ReloadNote {
     }
 }
 
+/// A library whose reloads the panel follows.
+struct Followed {
+    library: Arc<libero_behavior::LiveLibrary>,
+    seen: u64,
+    times: Vec<FileTime>,
+}
+
 /// The live loop: until `stop`, every frame period, the agents' latest copies to every browser.
 pub fn broadcast(shared: &Shared, stop: &AtomicBool) {
     let Source::Live(set) = &shared.source else {
@@ -131,32 +248,40 @@ pub fn broadcast(shared: &Shared, stop: &AtomicBool) {
     };
     let started = Instant::now();
     // Reload events seen, by library (pointer) so a new half's libraries start afresh.
-    let mut seen_reloads: Vec<(usize, u64)> = Vec::new();
+    // Reload events seen and file times, by library, so a new half's libraries start afresh.
+    let mut followed: Vec<Followed> = Vec::new();
     let mut views: Vec<AgentView> = Vec::new();
     let mut seq = 0u64;
     let mut last_copies: u64 = u64::MAX;
     while !stop.load(Ordering::Relaxed) {
         let tick = Instant::now();
         let libraries = set.libraries();
-        seen_reloads.retain(|(id, _)| {
-            libraries
-                .iter()
-                .any(|(_, l)| Arc::as_ptr(l) as usize == *id)
-        });
+        followed.retain(|f| libraries.iter().any(|(_, l)| Arc::ptr_eq(l, &f.library)));
         for (team, library) in &libraries {
-            let id = Arc::as_ptr(library) as usize;
             let pushed = library.events().pushed();
-            match seen_reloads.iter_mut().find(|(i, _)| *i == id) {
-                None => seen_reloads.push((id, pushed)),
-                Some((_, seen)) if *seen != pushed => {
-                    *seen = pushed;
-                    if let Some(event) = library.events().newest() {
-                        shared
-                            .reloads
-                            .push(note_of(team, started.elapsed().as_secs_f64(), &event));
-                    }
+            let Some(f) = followed
+                .iter_mut()
+                .find(|f| Arc::ptr_eq(&f.library, library))
+            else {
+                followed.push(Followed {
+                    library: Arc::clone(library),
+                    seen: pushed,
+                    times: mtimes(library),
+                });
+                continue;
+            };
+            if f.seen == pushed {
+                continue;
+            }
+            f.seen = pushed;
+            if let Some(event) = library.events().newest() {
+                let note = note_of(team, started.elapsed().as_secs_f64(), &event);
+                let now = mtimes(library);
+                for entry in file_reloads(team, &note, &event, &f.times, &now) {
+                    shared.reloads.note_file(entry);
                 }
-                Some(_) => {}
+                f.times = now;
+                shared.reloads.push(note);
             }
         }
         let agents = set.agents();
@@ -179,6 +304,7 @@ pub fn broadcast(shared: &Shared, stop: &AtomicBool) {
                 monitor,
                 agents: &views,
                 reloads: shared.reloads.list(),
+                files: shared.reloads.files(),
             };
             match serde_json::to_string(&frame) {
                 Ok(json) => {
