@@ -484,6 +484,60 @@ mod tests {
     }
 
     #[test]
+    fn a_view_slot_and_the_traced_log_show_the_same_cycle_alike() {
+        let path = std::env::temp_dir().join(format!("libero-view-{}.jsonl", std::process::id()));
+        let model = Arc::new(RobotModel::builtin("T1").unwrap());
+        let source = crate::build::load_library(&crate::build::default_data_dirs(), false).unwrap();
+        let mut player =
+            crate::build::tree_player(&model, "Probe", 3, &source, &SkillSource::Builtin).unwrap();
+        player.log_to(EvalLogger::create(&path).unwrap(), true);
+        // A period of zero: a copy in every cycle.
+        let slot = ViewSlot::new(std::time::Duration::ZERO);
+        player.show_in(Arc::clone(&slot));
+        let mut out = Vec::new();
+        for name in [
+            "T1_sync_msg0000.txt",
+            "T1_sync_msg0001.txt",
+            "T1_sync_msg0002.txt",
+        ] {
+            player.on_percept(&sample(name), &mut out);
+        }
+        drop(player);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let _ = std::fs::remove_file(&path);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(
+            lines[0].contains("\"tree_shape\":{"),
+            "the first line carries the tree"
+        );
+        assert!(!lines[1].contains("\"tree_shape\""), "and only the first");
+        let logged: crate::view::AgentView = serde_json::from_str(lines[2]).unwrap();
+        let live = slot.latest().unwrap();
+        assert_eq!(slot.copies(), 3);
+        assert_eq!(
+            (logged.time, logged.cycle, logged.unum),
+            (live.time, live.cycle, 3)
+        );
+        assert_eq!(logged.me.position, live.me.position);
+        assert_eq!(
+            logged.truth.map(|t| t.position),
+            live.truth.map(|t| t.position)
+        );
+        let (l, v) = (logged.decision.unwrap(), live.decision.unwrap());
+        assert_eq!(l.formation_target, v.formation_target);
+        assert!(v.formation_target.is_some(), "the notes were kept");
+        let (lt, vt) = (l.tree.unwrap(), v.tree.unwrap());
+        assert_eq!(lt.ticked, vt.ticked);
+        assert!(!vt.ticked.is_empty() && vt.name == "FieldPlayer", "{vt:?}");
+        let shape = slot.shape(vt.generation).unwrap();
+        assert_eq!(shape.labels.len(), shape.parents.len());
+        assert!(vt
+            .ticked
+            .iter()
+            .all(|(n, _)| (*n as usize) < shape.labels.len()));
+    }
+
+    #[test]
     fn simspark_handshake_init_then_velocities_and_syn_every_cycle() {
         let model = Arc::new(RobotModel::builtin("NAO_type2").unwrap());
         let source = crate::build::load_library(&crate::build::default_data_dirs(), false).unwrap();

@@ -133,15 +133,16 @@ impl DecisionView {
         runner: Option<&TreeRunner>,
         skills: &SkillStatus,
     ) {
-        if let Some(notes) = notes {
-            self.slot = notes.slot;
-            self.role.clear();
-            self.role.push_str(&notes.role);
-            self.formation_target = notes.formation_target.map(|p| p.to_array());
-            self.defense_point = notes.defense_point.map(|p| p.to_array());
-            self.shot_target = notes.shot.map(|(p, _)| p.to_array());
-            self.shot_probability = notes.shot.map(|(_, p)| p);
-        }
+        // No notes (no tree ran): nothing to show rather than an older decision's.
+        let empty = DecisionNotes::default();
+        let notes = notes.unwrap_or(&empty);
+        self.slot = notes.slot;
+        self.role.clear();
+        self.role.push_str(&notes.role);
+        self.formation_target = notes.formation_target.map(|p| p.to_array());
+        self.defense_point = notes.defense_point.map(|p| p.to_array());
+        self.shot_target = notes.shot.map(|(p, _)| p.to_array());
+        self.shot_probability = notes.shot.map(|(_, p)| p);
         self.skill.clear();
         let _ = write!(self.skill, "{:?}", skills.active);
         match skills.active {
