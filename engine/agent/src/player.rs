@@ -236,11 +236,8 @@ impl Player {
         if view_due || log_decision {
             self.decider
                 .describe(&self.skills.status(), &mut self.decision);
-            self.decision.intent.clear();
-            let _ = std::fmt::Write::write_fmt(
-                &mut self.decision.intent,
-                format_args!("{:.2?}", self.intent.body),
-            );
+            self.decision
+                .note_intent(&self.intent.body, &self.world.pose());
         }
         if view_due {
             if let Some(view) = &self.view {

@@ -91,6 +91,43 @@ pub struct DecisionView {
     /// What the decision asked the body for this cycle (`WalkTo { target: [1.20, 0.30], … }`).
     #[serde(default)]
     pub intent: String,
+    /// Where that asks the body to go, on the field: the walk's target, or the ball to kick or
+    /// dribble, and the direction [deg, global] a kick or dribble goes.
+    #[serde(default)]
+    pub intent_target: Option<[f64; 2]>,
+    #[serde(default)]
+    pub intent_direction_deg: Option<f64>,
+}
+
+impl DecisionView {
+    /// The body intent in words and, on the field, where it points (from the robot's believed
+    /// pose: the intent is in the robot frame).
+    pub fn note_intent(&mut self, body: &libero_skills::BodyIntent, pose: &libero_world::Pose) {
+        use libero_skills::BodyIntent;
+        self.intent.clear();
+        let _ = write!(self.intent, "{body:.2?}");
+        let on_field = |p: [f64; 2]| pose.global(libero_world::Robot::from_array(p)).to_array();
+        let (target, direction) = match *body {
+            BodyIntent::WalkTo { target, .. } => (Some(on_field(target)), None),
+            BodyIntent::Kick {
+                ball,
+                direction_deg,
+                ..
+            }
+            | BodyIntent::Dribble {
+                ball,
+                direction_deg,
+            } => (
+                Some(on_field(ball)),
+                Some(libero_world::geometry::wrap_deg(
+                    pose.yaw_deg + direction_deg,
+                )),
+            ),
+            _ => (None, None),
+        };
+        self.intent_target = target;
+        self.intent_direction_deg = direction;
+    }
 }
 
 /// Which nodes of the running tree were ticked this cycle and what they returned.
@@ -334,5 +371,42 @@ impl ViewTap {
         }
         self.next = now + self.slot.period;
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use libero_skills::BodyIntent;
+    use libero_world::{Global, Pose};
+
+    #[test]
+    fn an_intent_is_placed_on_the_field_from_the_believed_pose() {
+        let pose = Pose::new(Global::new(1.0, 2.0), 90.0);
+        let mut view = DecisionView::default();
+        view.note_intent(
+            &BodyIntent::WalkTo {
+                target: [1.0, 0.0],
+                heading_deg: 0.0,
+                max_speed_m_s: None,
+            },
+            &pose,
+        );
+        let [x, y] = view.intent_target.unwrap();
+        assert!((x - 1.0).abs() < 1e-9 && (y - 3.0).abs() < 1e-9, "{x} {y}");
+        assert!(view.intent.starts_with("WalkTo"), "{}", view.intent);
+        view.note_intent(
+            &BodyIntent::Kick {
+                ball: [0.0, -1.0],
+                direction_deg: -90.0,
+                distance_m: 5.0,
+            },
+            &pose,
+        );
+        let [x, y] = view.intent_target.unwrap();
+        assert!((x - 2.0).abs() < 1e-9 && (y - 2.0).abs() < 1e-9, "{x} {y}");
+        assert_eq!(view.intent_direction_deg, Some(0.0));
+        view.note_intent(&BodyIntent::Stand, &pose);
+        assert_eq!(view.intent_target, None);
     }
 }
