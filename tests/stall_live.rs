@@ -115,9 +115,9 @@ fn stalls(gaps: &[Duration], normal: Duration) -> Vec<Duration> {
 /// stops after its bounded refusals with a clear error, and the match loses little play.
 ///
 /// Measured on the match's clock, not its pace (fast mode's pace swings by half from one 3 s
-/// stretch to the next on two cores): each join the server handles is one long gap between
-/// the clock's advances (about 0.23 s here, against at most 16 ms undisturbed), so the stalls
-/// counted are the joins tried, and there must be no more than the agent's three.
+/// stretch to the next on two cores): each join the server handles is a long gap between the
+/// clock's advances (about 0.23 s here, against at most 16 ms undisturbed), and the gaps
+/// together are the play the match lost.
 #[test]
 fn a_refused_team_stops_trying_without_stalling_the_match() {
     let server = fast_server();
@@ -147,9 +147,13 @@ fn a_refused_team_stops_trying_without_stalling_the_match() {
     );
     assert!(err.contains("refused this agent 3 times"), "{err}");
     assert!(wall < 30.0, "took {wall:.1} s to give up");
+    // The bar (#13): the match loses no more than 1 s of play to the refused team. Each join
+    // the server handles stalls it for about 0.2 s, seen as one long gap or, at times, two in
+    // a row (CI once counted 4 gaps, 0.67 s in all, for the three joins): the time lost is
+    // the measure, and a team that kept retrying would pass it within five or six joins.
     assert!(
-        stalls.len() <= 3,
-        "the refused joins stalled the match {} times ({lost:?}); the agent tries three",
+        lost <= Duration::from_secs(1),
+        "the refused joins cost the match {lost:?} in {} stalls; the agent tries three",
         stalls.len()
     );
     home_stop.store(true, std::sync::atomic::Ordering::Relaxed);
