@@ -179,15 +179,16 @@ pub fn step(
             ApproachStep::Align(v)
         };
     }
-    let clearance = Clearance {
-        clearance_m: a.clearance_m,
-        circle_radius_m: a.circle_radius_m,
-    };
-    let v = if a.approach_brake_m_s2 > 0.0 {
-        pursuit(b, p, heading_error, clearance, a, w)
-    } else {
-        walk_round_ball(b, p, heading_error, clearance, w)
-    };
+    let v = walk_round_ball(
+        b,
+        p,
+        heading_error,
+        Clearance {
+            clearance_m: a.clearance_m,
+            circle_radius_m: a.circle_radius_m,
+        },
+        w,
+    );
     let v = v.capped(Some(a.approach_speed_m_s));
     ApproachStep::Walk(Velocity {
         turn_deg_s: v
@@ -195,69 +196,6 @@ pub fn step(
             .clamp(-a.approach_turn_deg_s, a.approach_turn_deg_s),
         ..v
     })
-}
-
-/// The pursuit command (see `KickApproach::approach_brake_m_s2`): towards the next waypoint of
-/// the way round the ball at the speed the path left allows, facing the way it goes while far.
-fn pursuit(
-    ball: Vector2<f64>,
-    place: Vector2<f64>,
-    heading_deg: f64,
-    c: Clearance,
-    a: &KickApproach,
-    w: &WalkParams,
-) -> Velocity {
-    let waypoint = round_ball_waypoint(ball, place, c);
-    let left = (path_length(ball, place, c) - a.align_within_m).max(0.0);
-    let speed =
-        (a.align_speed_m_s + (2.0 * a.approach_brake_m_s2 * left).sqrt()).min(a.approach_speed_m_s);
-    let Some(direction) = waypoint.try_normalize(1e-9) else {
-        return Velocity::default();
-    };
-    let bearing_deg = direction.y.atan2(direction.x).to_degrees();
-    let far = left + a.align_within_m > w.walk_to.face_target_beyond_m;
-    // Far, it turns to walk forwards (the walk's fastest way); meanwhile it goes the way it
-    // faces, within the walk's backward and sideways limits.
-    let turn_error_deg = if far { bearing_deg } else { heading_deg };
-    let v = direction * speed;
-    Velocity {
-        forward_m_s: v.x,
-        sideways_m_s: v.y,
-        turn_deg_s: (w.walk_to.turn_gain_per_s * turn_error_deg)
-            .clamp(-w.max_turn_deg_s, w.max_turn_deg_s),
-    }
-    .within_limits(w)
-}
-
-/// The length of the way to `place` (robot frame): straight when it clears the ball, else onto
-/// the clearance circle, round it, and off to the place.
-fn path_length(ball: Vector2<f64>, place: Vector2<f64>, c: Clearance) -> f64 {
-    let robot = Vector2::zeros();
-    if segment_distance(robot, place, ball) >= c.clearance_m {
-        return place.norm();
-    }
-    let (from, to) = (robot - ball, place - ball);
-    let turn = from.perp(&to).atan2(from.dot(&to)).abs();
-    (from.norm() - c.circle_radius_m).abs()
-        + c.circle_radius_m * turn
-        + (to.norm() - c.circle_radius_m).abs()
-}
-
-/// The next point to walk to on the way to `place` without passing the ball closer than the
-/// clearance: the place itself when the straight way is clear, else the next point on the
-/// clearance circle, turning from where the robot is towards the place the shorter way.
-fn round_ball_waypoint(ball: Vector2<f64>, place: Vector2<f64>, c: Clearance) -> Vector2<f64> {
-    let robot = Vector2::zeros();
-    if segment_distance(robot, place, ball) >= c.clearance_m {
-        return place;
-    }
-    let from = robot - ball;
-    let to = place - ball;
-    let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
-    let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
-    let dir =
-        Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
-    ball + dir * c.circle_radius_m
 }
 
 /// How wide a berth the robot gives the ball on its way to a place beside or behind it.
@@ -280,7 +218,21 @@ pub fn walk_round_ball(
     c: Clearance,
     w: &WalkParams,
 ) -> Velocity {
-    let target = round_ball_waypoint(ball, place, c);
+    let (b, p) = (ball, place);
+    let robot = Vector2::zeros();
+    let target = if segment_distance(robot, p, b) >= c.clearance_m {
+        p
+    } else {
+        // Around the ball: the next point on the clearance circle, turning from where the robot
+        // is towards the place the shorter way.
+        let from = robot - b;
+        let to = p - b;
+        let turn = from.perp(&to).atan2(from.dot(&to)).to_degrees();
+        let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
+        let dir =
+            Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
+        b + dir * c.circle_radius_m
+    };
     walk_to::velocity_towards([target.x, target.y], heading_deg, w).unwrap_or_default()
 }
 
@@ -334,43 +286,6 @@ mod tests {
             panic!("not ready 1 m away");
         };
         assert!(v.forward_m_s > 0.0, "{v:?}");
-    }
-
-    #[test]
-    fn the_pursuit_keeps_its_speed_round_the_ball_and_brakes_for_the_place() {
-        let (mut a, w) = params();
-        a.approach_brake_m_s2 = 0.3;
-        a.approach_speed_m_s = 0.5;
-        let speed = |v: Velocity| v.forward_m_s.hypot(v.sideways_m_s);
-        // On the clearance circle beside the ball (to its left, facing along the circle), to
-        // kick it to its left: the way goes on round the ball, its next waypoint 0.3 m ahead.
-        let ball = [0.0, -a.circle_radius_m];
-        let ApproachStep::Walk(proportional) =
-            step(ball, 100.0, Foot::Left, STILL, &params().0, &w)
-        else {
-            panic!("not ready on the wrong side");
-        };
-        let ApproachStep::Walk(pursuit) = step(ball, 100.0, Foot::Left, STILL, &a, &w) else {
-            panic!("not ready on the wrong side");
-        };
-        assert!(pursuit.forward_m_s > 0.3, "{pursuit:?}");
-        assert!(
-            speed(pursuit) > speed(proportional) + 0.05,
-            "round the ball: pursuit {pursuit:?}, proportional {proportional:?}"
-        );
-        // Straight behind a ball 3 m away: full speed ahead.
-        let ApproachStep::Walk(v) = step([3.0, 0.0], 0.0, Foot::Left, STILL, &a, &w) else {
-            panic!("not ready 3 m away");
-        };
-        assert!((speed(v) - a.approach_speed_m_s).abs() < 1e-9, "{v:?}");
-        // Just outside the alignment zone the speed has come down to √(2·a·d) + align speed.
-        let d = 0.05;
-        let near = [a.ball_ahead_m + a.align_within_m + d, a.ball_beside_m];
-        let ApproachStep::Walk(v) = step(near, 0.0, Foot::Left, STILL, &a, &w) else {
-            panic!("not ready just outside the zone");
-        };
-        let expected = a.align_speed_m_s + (2.0 * a.approach_brake_m_s2 * d).sqrt();
-        assert!((speed(v) - expected).abs() < 0.02, "{v:?} vs {expected}");
     }
 
     #[test]

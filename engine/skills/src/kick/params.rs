@@ -64,13 +64,6 @@ pub struct KickApproach {
     /// Fastest turn while walking there [deg/s]: the walk's fastest turn on top of walking
     /// fast, with the command changing every cycle, can tip the robot over.
     pub approach_turn_deg_s: f64,
-    /// Pursuit: walk at the speed from which the walk can still brake at this deceleration
-    /// over the path left to the alignment zone, √(2·a·d), capped by `approach_speed_m_s`
-    /// [m/s²]; facing the way it goes while the path left is longer than the walk's
-    /// `face_target_beyond_m`. 0: the proportional walk-to (speed from the distance to the next
-    /// waypoint, which round the ball is a few decimetres away).
-    #[serde(default)]
-    pub approach_brake_m_s2: f64,
     /// Closer than this to the kicking place the robot aligns with small steps [m].
     pub align_within_m: f64,
     /// Alignment: speed per metre of position error [1/s], turn per degree of heading error
@@ -206,7 +199,6 @@ impl KickParams {
         in_range(&p("circle_radius_m"), a.circle_radius_m, a.clearance_m, 3.0)?;
         in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
         in_range(&p("approach_turn_deg_s"), a.approach_turn_deg_s, 1.0, 360.0)?;
-        in_range(&p("approach_brake_m_s2"), a.approach_brake_m_s2, 0.0, 5.0)?;
         in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;
         in_range(&p("align_gain_per_s"), a.align_gain_per_s, 0.01, 10.0)?;
         in_range(
