@@ -35,6 +35,7 @@ fn data() -> RunData {
     RunData {
         library: load_library(&default_data_dirs(), false).unwrap(),
         skills: SkillSource::Builtin,
+        watcher: None,
         interrupt: Default::default(),
     }
 }
@@ -184,6 +185,7 @@ fn shot_file_edits_change_where_the_ball_goes() {
     let data = RunData {
         library: library.clone(),
         skills: SkillSource::Builtin,
+        watcher: None,
         interrupt: Default::default(),
     };
     let kick = |data: &RunData| {

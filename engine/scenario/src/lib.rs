@@ -38,7 +38,7 @@ mod load_tests;
 
 pub use libero_behavior::Report;
 pub use load::{is_scenario_text, load_file, load_text, validate_files};
-pub use run::{Arena, RunData, RunError};
+pub use run::{Arena, RunData, RunError, Watcher, OUR_TEAM, THEIR_TEAM};
 pub use spec::{Scenario, Success};
 pub use summary::{RunOutcome, Summary};
 

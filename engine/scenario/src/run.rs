@@ -61,6 +61,17 @@ pub struct RunData {
     pub skills: SkillSource,
     /// Set (e.g. by Ctrl-C) to end the series at once, server stopped.
     pub interrupt: Arc<AtomicBool>,
+    /// Whoever watches the series (a field view): told of each player built and of the
+    /// server's monitor.
+    pub watcher: Option<Box<dyn Watcher>>,
+}
+
+/// What a watcher of a series is given.
+pub trait Watcher {
+    /// A robot of the scenario, before it joins (`team` is [`OUR_TEAM`] or [`THEIR_TEAM`]).
+    fn player(&self, team: &str, player: &mut Player);
+    /// The server's monitor, once it runs.
+    fn monitor(&self, monitor: &libero_server::Monitor);
 }
 
 struct Robot {
@@ -83,7 +94,10 @@ impl Arena {
     /// Start a fast-mode server and connect the scenario's robots (ours first, so ours play
     /// from the left).
     pub fn start(scenario: &Scenario, data: &RunData) -> Result<Self, RunError> {
-        let server = ServerProcess::start(ServerOptions::default())?;
+        let mut server = ServerProcess::start(ServerOptions::default())?;
+        if let Some(watcher) = &data.watcher {
+            watcher.monitor(server.monitor());
+        }
         let model = Arc::new(
             RobotModel::builtin("T1").map_err(|e| RunError::Setup(format!("T1 model: {e}")))?,
         );
@@ -100,10 +114,13 @@ impl Arena {
             }
             let mut players: Vec<Player> = Vec::new();
             for r in list {
-                let player = match r.play {
+                let mut player = match r.play {
                     Play::Tree => tree_player(&model, team, r.unum, &data.library, &data.skills)?,
                     Play::Stand => standing_player(&model, team, r.unum)?,
                 };
+                if let Some(watcher) = &data.watcher {
+                    watcher.player(team, &mut player);
+                }
                 robots.push(Robot {
                     unum: r.unum,
                     ours,

@@ -25,6 +25,8 @@ pub struct ScenarioArgs {
     /// running scenario unless `--no-watch`).
     #[command(flatten)]
     pub data: DataArgs,
+    #[command(flatten)]
+    pub view: super::view::ViewArgs,
 }
 
 pub fn run(args: ScenarioArgs) -> CliResult {
@@ -41,10 +43,18 @@ pub fn run(args: ScenarioArgs) -> CliResult {
         return Err("--runs must be at least 1".into());
     }
     let model = load_robot("T1", None)?;
+    let library = args.data.source()?;
+    let view =
+        super::view::LiveView::start(&args.view, super::view::field_of(&library), &args.data)?;
+    let watcher = view.map(|view| {
+        view.watch_library(libero_scenario::OUR_TEAM, &library);
+        Box::new(view) as Box<dyn libero_scenario::Watcher>
+    });
     let data = RunData {
-        library: args.data.source()?,
+        library,
         skills: args.data.skills(&model)?,
         interrupt: ctrl_c_flag(),
+        watcher,
     };
     eprintln!(
         "scenario {}: {} run(s), seed {}, on a fresh fast-mode rcssservermj…",

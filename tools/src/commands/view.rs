@@ -101,6 +101,42 @@ impl LiveView {
     }
 }
 
+/// A scenario series shown in the view: every robot of both sides, and the monitor.
+impl libero_scenario::Watcher for LiveView {
+    fn player(&self, _team: &str, player: &mut Player) {
+        self.show(player);
+    }
+
+    fn monitor(&self, monitor: &libero_server::Monitor) {
+        self.set.set_monitor(Some(monitor_feed(
+            monitor,
+            [
+                libero_scenario::OUR_TEAM.to_string(),
+                libero_scenario::THEIR_TEAM.to_string(),
+            ],
+        )));
+    }
+}
+
+/// The view's reading of a server's monitor, with the team names left and right.
+pub fn monitor_feed(
+    monitor: &libero_server::Monitor,
+    teams: [String; 2],
+) -> libero_view::MonitorFeed {
+    let read = monitor.reader();
+    Arc::new(move || {
+        let s = read();
+        Some(libero_view::MonitorView {
+            time: s.time,
+            half: s.half,
+            score: [s.score_left, s.score_right],
+            play_mode: s.play_mode,
+            ball: s.ball,
+            teams: teams.clone(),
+        })
+    })
+}
+
 #[derive(Args)]
 pub struct ViewCommandArgs {
     /// Evaluation logs to replay together (one per agent of a match: `--log FILE --trace`

@@ -196,19 +196,8 @@ fn play_half(
     ];
     let monitor = server.monitor();
     if let Some(view) = view {
-        let read = monitor.reader();
-        let teams = names.clone();
-        view.set.set_monitor(Some(std::sync::Arc::new(move || {
-            let s = read();
-            Some(libero_view::MonitorView {
-                time: s.time,
-                half: s.half,
-                score: [s.score_left, s.score_right],
-                play_mode: s.play_mode,
-                ball: s.ball,
-                teams: teams.clone(),
-            })
-        })));
+        view.set
+            .set_monitor(Some(super::view::monitor_feed(monitor, names.clone())));
     }
     // A second of play time for the beams to settle, on the server's clock: a wall-clock pause
     // left a loaded machine's robots less settled and the kick-off slower (3.96 s vs 2.28 s).
