@@ -295,6 +295,10 @@ fn the_formation_editor_writes_the_file_by_span_and_the_running_player_follows()
         &tab,
         "JSON.stringify(document.getElementById('edit-status').textContent)",
     );
+    eval(
+        &tab,
+        "document.getElementById('editor').scrollIntoView(), true",
+    );
     screenshot(&tab, "view-editor.png");
     let edited = std::fs::read_to_string(&kickoff).unwrap();
     let doc = libero_view::FormationDoc::parse("kickoff.ron", &edited).unwrap();

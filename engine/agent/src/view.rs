@@ -182,14 +182,12 @@ impl DecisionView {
         self.shot_probability = notes.shot.map(|(_, p)| p);
         self.skill.clear();
         let _ = write!(self.skill, "{:?}", skills.active);
-        match skills.active {
-            libero_skills::ActiveSkill::Kick => {
-                let _ = write!(self.skill, " {:?}", skills.kick);
-            }
-            libero_skills::ActiveSkill::Dribble => {
-                let _ = write!(self.skill, " {:?}", skills.dribble);
-            }
-            _ => {}
+        // A kick's approach walks (the active skill is `Walk` then): its state says more.
+        if skills.kick != libero_skills::KickState::Idle {
+            let _ = write!(self.skill, ", kick {:?}", skills.kick);
+        }
+        if skills.dribble != libero_skills::DribbleState::Idle {
+            let _ = write!(self.skill, ", dribble {:?}", skills.dribble);
         }
         let Some(runner) = runner else {
             self.tree = None;

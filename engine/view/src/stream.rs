@@ -189,7 +189,11 @@ fn file_reloads(
                 at_s: note.at_s,
                 accepted: note.accepted,
                 generation: note.generation,
-                diagnostics: mine.render_text(),
+                diagnostics: if mine.diagnostics.is_empty() {
+                    String::new()
+                } else {
+                    mine.render_text()
+                },
             }
         })
         .collect()
@@ -230,7 +234,11 @@ fn note_of(team: &str, at_s: f64, event: &ReloadEvent) -> ReloadNote {
         accepted,
         generation,
         files,
-        report: report.render_text(),
+        report: if report.diagnostics.is_empty() {
+            String::new()
+        } else {
+            report.render_text()
+        },
     }
 }
 
