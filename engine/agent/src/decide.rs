@@ -24,7 +24,8 @@ pub trait Decider: Send {
     fn note_next(&mut self) {}
 
     /// The latest decision as a view shows it.
-    fn describe(&self, _skills: &SkillStatus, out: &mut DecisionView) {
+    /// `detail`: the tree's statuses and blackboard too.
+    fn describe(&self, _skills: &SkillStatus, _detail: bool, out: &mut DecisionView) {
         out.tree = None;
     }
 
@@ -185,8 +186,8 @@ impl Decider for TreeDecider {
         self.want_notes = true;
     }
 
-    fn describe(&self, skills: &SkillStatus, out: &mut DecisionView) {
-        out.fill(self.notes.as_ref(), self.runner.as_ref(), skills);
+    fn describe(&self, skills: &SkillStatus, detail: bool, out: &mut DecisionView) {
+        out.fill(self.notes.as_ref(), self.runner.as_ref(), skills, detail);
     }
 
     fn running_tree(&self) -> Option<(u64, Arc<libero_behavior::CompiledTree>)> {

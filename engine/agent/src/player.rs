@@ -234,8 +234,9 @@ impl Player {
         }
         self.intent = self.decider.decide(&self.world);
         if view_due || log_decision {
+            let detail = log_decision || self.view.as_ref().is_some_and(|v| v.slot.detailed());
             self.decider
-                .describe(&self.skills.status(), &mut self.decision);
+                .describe(&self.skills.status(), detail, &mut self.decision);
             self.decision
                 .note_intent(&self.intent.body, &self.world.pose());
         }

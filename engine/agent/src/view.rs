@@ -22,8 +22,8 @@ pub struct AgentView {
     pub cycle: u64,
     pub team: String,
     pub unum: u32,
-    /// `"Left"` or `"Right"` once the server has said.
-    pub side: Option<String>,
+    /// Once the server has said.
+    pub side: Option<libero_world::Side>,
     pub play_mode: String,
     /// Goals (left, right) as the agent heard them.
     #[serde(default)]
@@ -55,10 +55,9 @@ pub struct BallView {
     pub last_seen_time: Option<f64>,
 }
 
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PlayerView {
-    /// `"Teammate"` or `"Opponent"`.
-    pub relation: String,
+    pub relation: libero_world::Relation,
     pub unum: u32,
     pub position: [f64; 2],
     #[serde(default)]
@@ -164,11 +163,14 @@ impl TreeShape {
 
 impl DecisionView {
     /// Fill from the strategy's notes, the runner and the skills (reusing this view's room).
+    /// `detail`: also the tree's statuses and the blackboard (what a view shows only for the
+    /// agent it has selected, and the log always).
     pub fn fill(
         &mut self,
         notes: Option<&DecisionNotes>,
         runner: Option<&TreeRunner>,
         skills: &SkillStatus,
+        detail: bool,
     ) {
         // No notes (no tree ran): nothing to show rather than an older decision's.
         let empty = DecisionNotes::default();
@@ -189,7 +191,7 @@ impl DecisionView {
         if skills.dribble != libero_skills::DribbleState::Idle {
             let _ = write!(self.skill, ", dribble {:?}", skills.dribble);
         }
-        let Some(runner) = runner else {
+        let Some(runner) = runner.filter(|_| detail) else {
             self.tree = None;
             self.blackboard.clear();
             return;
@@ -233,7 +235,7 @@ impl AgentView {
         self.team.clear();
         self.team.push_str(&world.game.team);
         self.unum = world.game.unum;
-        self.side = world.game.side.map(|s| format!("{s:?}"));
+        self.side = world.game.side;
         self.play_mode.clear();
         self.play_mode.push_str(&world.game.play_mode_name);
         self.score = [world.game.score_left, world.game.score_right];
@@ -253,7 +255,7 @@ impl AgentView {
         self.players.clear();
         self.players
             .extend(world.players.known.iter().map(|p| PlayerView {
-                relation: format!("{:?}", p.relation),
+                relation: p.relation,
                 unum: p.unum,
                 position: p.position,
                 last_update_time: p.last_update_time,
@@ -279,6 +281,10 @@ pub struct ViewSlot {
     period: Duration,
     /// Whether the agent copies at all (a benchmark turns it off and on in one run).
     enabled: std::sync::atomic::AtomicBool,
+    /// Until when [ms after `born`] a viewer wants the whole decision (tree, blackboard): the
+    /// agent it has selected. The others copy their pose and notes only.
+    detail_until_ms: AtomicU64,
+    born: Instant,
 }
 
 impl ViewSlot {
@@ -292,7 +298,20 @@ impl ViewSlot {
             copies: AtomicU64::new(0),
             period,
             enabled: std::sync::atomic::AtomicBool::new(true),
+            detail_until_ms: AtomicU64::new(0),
+            born: Instant::now(),
         })
+    }
+
+    /// A viewer has this agent selected: copy its whole decision for the next `span`.
+    pub fn want_detail_for(&self, span: Duration) {
+        let until = (self.born.elapsed() + span).as_millis() as u64;
+        self.detail_until_ms.fetch_max(until, Ordering::Relaxed);
+    }
+
+    /// Whether a viewer wants the whole decision now.
+    pub fn detailed(&self) -> bool {
+        (self.born.elapsed().as_millis() as u64) < self.detail_until_ms.load(Ordering::Relaxed)
     }
 
     /// Stop or resume copying (the agent then skips even the clock check).
@@ -377,6 +396,23 @@ mod tests {
     use super::*;
     use libero_skills::BodyIntent;
     use libero_world::{Global, Pose};
+
+    #[test]
+    fn only_a_selected_agent_copies_its_tree_and_only_while_selected() {
+        let slot = ViewSlot::new(Duration::ZERO);
+        assert!(!slot.detailed());
+        slot.want_detail_for(Duration::from_millis(30));
+        assert!(slot.detailed());
+        std::thread::sleep(Duration::from_millis(40));
+        assert!(!slot.detailed(), "a selection not renewed lapses");
+        let mut view = DecisionView {
+            blackboard: vec![("k".into(), "v".into())],
+            tree: Some(TreeStatus::default()),
+            ..DecisionView::default()
+        };
+        view.fill(None, None, &SkillStatus::default(), false);
+        assert!(view.tree.is_none() && view.blackboard.is_empty());
+    }
 
     #[test]
     fn an_intent_is_placed_on_the_field_from_the_believed_pose() {

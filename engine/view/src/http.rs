@@ -175,6 +175,7 @@ fn handle(request: Request, shared: &Arc<Shared>) {
         ),
         (Method::Get, "/api/frame") => frame(shared, query(&url, "step")),
         (Method::Get, "/api/tree") => tree(shared, &url),
+        (Method::Get, "/api/select") => select(shared, &url),
         (Method::Get, "/api/formations") => match &shared.edit {
             Some(target) => json(200, &target.formations()),
             None => json(200, &Vec::<FormationDoc>::new()),
@@ -263,6 +264,34 @@ fn tree(shared: &Shared, url: &str) -> Response<std::io::Cursor<Vec<u8>>> {
             404,
             format!("no tree of generation {generation} for {team} {unum}"),
         ),
+    }
+}
+
+/// How long a selection holds without being renewed (the page renews it every 2 s).
+const SELECTION_HOLDS: Duration = Duration::from_secs(5);
+
+/// A browser has an agent selected: that agent copies its whole decision for a while.
+fn select(shared: &Shared, url: &str) -> Response<std::io::Cursor<Vec<u8>>> {
+    let team = percent_decode(query(url, "team").unwrap_or(""));
+    let unum: u32 = query(url, "unum").and_then(|u| u.parse().ok()).unwrap_or(0);
+    let Source::Live(set) = &shared.source else {
+        // A replay shows what the logs hold.
+        return json(200, &true);
+    };
+    let mut found = false;
+    for slot in set.agents() {
+        if slot
+            .latest()
+            .is_some_and(|v| v.team == team && v.unum == unum)
+        {
+            slot.want_detail_for(SELECTION_HOLDS);
+            found = true;
+        }
+    }
+    if found {
+        json(200, &true)
+    } else {
+        refuse(404, format!("no agent {team} {unum} in the view"))
     }
 }
 

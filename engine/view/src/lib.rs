@@ -255,6 +255,21 @@ impl StreamCounter {
     }
 }
 
+impl StreamCounter {
+    /// Select an agent as a page does (`/api/select`), for its whole decision to be copied.
+    pub fn select(address: SocketAddr, team: &str, unum: u32) -> std::io::Result<()> {
+        use std::io::{Read, Write};
+        let mut stream = std::net::TcpStream::connect(address)?;
+        write!(
+            stream,
+            "GET /api/select?team={team}&unum={unum} HTTP/1.1\r\nHost: {address}\r\nConnection: close\r\n\r\n"
+        )?;
+        let mut response = Vec::new();
+        stream.read_to_end(&mut response)?;
+        Ok(())
+    }
+}
+
 impl Drop for StreamCounter {
     fn drop(&mut self) {
         self.stop.store(true, Ordering::Relaxed);

@@ -6,7 +6,7 @@ use crate::params::PlayerParams;
 use nalgebra::{Point3, Vector3};
 
 /// Whose side a player is on, relative to us.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Relation {
     Teammate,
     Opponent,

@@ -2,12 +2,12 @@
 //!
 //! One fast-mode server and N of our agents (the shipped trees), all shown in a view with a
 //! viewer connected to its stream. The play time is cut into phases that alternate between
-//! the view off (the agents skip the copy) and on (every agent copies its view each 40 ms and
-//! the viewer receives ≤ 25 frames a second); the agents' thread CPU per agent-cycle is summed
-//! per kind of phase. Alternating phases in one match cancel the drift of the game and the
+//! the view off (the agents skip the copy) and on (every agent copies its view each 40 ms,
+//! agent 1 — selected, as a page selects one — with its tree and blackboard, and the viewer
+//! receives ≤ 25 frames a second); the agents' thread CPU (the scheduler's run
+//! time) per agent-cycle is summed per kind of phase. Alternating phases in one match cancel the drift of the game and the
 //! machine; the ratio is the figure.
 
-use super::bench_cycle::threads_cpu;
 use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
 use super::CliResult;
 use libero_agent::{AgentConfig, AgentStats, Team};
@@ -17,6 +17,25 @@ use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// CPU seconds of this process's threads whose name starts with `prefix`, from the
+/// scheduler's nanosecond run times (`/proc/self/task/*/schedstat`): the clock ticks of
+/// `stat` (10 ms) are too coarse for phases of a few seconds.
+fn threads_run_s(prefix: &str) -> f64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return f64::NAN;
+    };
+    tasks
+        .flatten()
+        .filter(|t| {
+            std::fs::read_to_string(t.path().join("comm"))
+                .is_ok_and(|name| name.trim_end().starts_with(prefix))
+        })
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum::<f64>()
+        / 1e9
+}
 
 pub fn bench_view(players: u32, play_s: f64, phases: u32, data: &DataArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
@@ -64,6 +83,7 @@ pub fn bench_view(players: u32, play_s: f64, phases: u32, data: &DataArgs) -> Cl
     let mut frames = [0u64; 2];
     let mut wall = [0.0f64; 2];
     let mut copies = [0u64; 2];
+    let mut view_cpu = [0.0f64; 2];
     let copies_now = || -> u64 { slots.iter().map(|s| s.copies()).sum() };
     let phase_s = play_s / f64::from(phases.max(1));
     for phase in 0..phases.max(2) {
@@ -72,25 +92,33 @@ pub fn bench_view(players: u32, play_s: f64, phases: u32, data: &DataArgs) -> Cl
         // A moment for the switch to take and the last frames of the other phase to arrive.
         std::thread::sleep(Duration::from_millis(100));
         let (cpu0, cycles0, frames0, t0, wall0) = (
-            threads_cpu("agent-"),
+            threads_run_s("agent-"),
             replies(),
             viewer.frames.load(Ordering::Relaxed),
             monitor.snapshot().time,
             Instant::now(),
         );
         let copies0 = copies_now();
+        let view0 = threads_run_s("view-");
+        let mut selected_at: Option<Instant> = None;
         while monitor.snapshot().time < t0 + phase_s
             && monitor.snapshot().play_mode != "GameOver"
             && !shutdown.load(Ordering::Relaxed)
         {
+            // As a page does: agent 1 selected (its tree and blackboard copied), renewed.
+            if on && selected_at.is_none_or(|t| t.elapsed() > Duration::from_secs(2)) {
+                StreamCounter::select(view.address, "Libero", 1)?;
+                selected_at = Some(Instant::now());
+            }
             std::thread::sleep(Duration::from_millis(20));
         }
         let k = usize::from(on);
-        cpu[k] += threads_cpu("agent-") - cpu0;
+        cpu[k] += threads_run_s("agent-") - cpu0;
         cycles[k] += replies() - cycles0;
         frames[k] += viewer.frames.load(Ordering::Relaxed) - frames0;
         wall[k] += wall0.elapsed().as_secs_f64();
         copies[k] += copies_now() - copies0;
+        view_cpu[k] += threads_run_s("view-") - view0;
     }
     let bytes = viewer.bytes.load(Ordering::Relaxed);
     let recorded = team
@@ -123,6 +151,11 @@ pub fn bench_view(players: u32, play_s: f64, phases: u32, data: &DataArgs) -> Cl
         bytes as f64 / 1e3 / wall[1].max(1e-9)
     );
     println!("ratio on / off: {:.3}", per(1) / per(0));
+    println!(
+        "the view's own threads (stream, HTTP, browser): {:.1} ms CPU per second of wall time with the view on, {:.1} off",
+        1e3 * view_cpu[1] / wall[1].max(1e-9),
+        1e3 * view_cpu[0] / wall[0].max(1e-9)
+    );
     if !recorded.is_empty() {
         // Offline, one thread: agent 1's cycles replayed with a copy in every cycle and with
         // none, alternately, so the copy's own cost shows apart from the live noise.
