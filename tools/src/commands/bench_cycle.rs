@@ -2,7 +2,8 @@
 //!
 //! One fast-mode server, N of our agents (the shipped trees, one team) and N agents that only
 //! answer each percept with `(syn)` (the other team), all in this process on their own named
-//! threads. After the play time, the CPU each thread used (`/proc/self/task/*/stat`) is summed
+//! threads. After the play time, the CPU each thread used (the scheduler's run time,
+//! `/proc/self/task/*/schedstat`; the kernel's share from `stat`'s ticks) is summed
 //! per kind and divided by the cycles it answered: ours, the baseline's, their ratio, and the
 //! server's CPU per cycle (`/proc/<pid>/stat`). Machines are noisy; the ratio from one run is
 //! the figure to compare.
@@ -51,6 +52,12 @@ fn threads_kernel_cpu(prefix: &str) -> f64 {
 
 /// The `stat` lines of this process's threads whose name starts with `prefix`.
 fn threads_stats(prefix: &str) -> impl Iterator<Item = String> + '_ {
+    threads_files(prefix, "stat")
+}
+
+/// One `/proc/self/task/<tid>/<file>` per thread of this process whose name starts with
+/// `prefix`.
+fn threads_files<'a>(prefix: &'a str, file: &'a str) -> impl Iterator<Item = String> + 'a {
     std::fs::read_dir("/proc/self/task")
         .into_iter()
         .flatten()
@@ -59,12 +66,17 @@ fn threads_stats(prefix: &str) -> impl Iterator<Item = String> + '_ {
             std::fs::read_to_string(t.path().join("comm"))
                 .is_ok_and(|name| name.trim_end().starts_with(prefix))
         })
-        .filter_map(|t| std::fs::read_to_string(t.path().join("stat")).ok())
+        .filter_map(move |t| std::fs::read_to_string(t.path().join(file)).ok())
 }
 
-/// CPU seconds of this process's threads whose name starts with `prefix`.
-pub(super) fn threads_cpu(prefix: &str) -> f64 {
-    threads_stats(prefix).filter_map(|s| cpu_seconds(&s)).sum()
+/// CPU seconds of this process's threads whose name starts with `prefix`, from the
+/// scheduler's nanosecond run times (`schedstat`): the ticks of `stat` are too coarse for a
+/// few seconds of a few threads.
+pub(super) fn threads_run_s(prefix: &str) -> f64 {
+    threads_files(prefix, "schedstat")
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum::<f64>()
+        / 1e9
 }
 
 fn process_cpu(pid: u32) -> f64 {
@@ -167,8 +179,8 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         threads_kernel_cpu(BASELINE_THREAD),
     );
     let start = (
-        threads_cpu("agent-"),
-        threads_cpu(BASELINE_THREAD),
+        threads_run_s("agent-"),
+        threads_run_s(BASELINE_THREAD),
         process_cpu(server_pid),
         ours_replies(),
         base_replies(&baseline),
@@ -181,7 +193,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
     {
         std::thread::sleep(Duration::from_millis(50));
     }
-    let ours_cpu = threads_cpu("agent-") - start.0;
+    let ours_cpu = threads_run_s("agent-") - start.0;
     let ours_kernel = threads_kernel_cpu("agent-") - kernel_before.0;
     let base_kernel = threads_kernel_cpu(BASELINE_THREAD) - kernel_before.1;
     let stages: Vec<(&str, u64)> = stage_totals(&team)
@@ -189,7 +201,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         .zip(&stages_before)
         .map(|(&(name, after), &(_, before))| (name, after - before))
         .collect();
-    let base_cpu = threads_cpu(BASELINE_THREAD) - start.1;
+    let base_cpu = threads_run_s(BASELINE_THREAD) - start.1;
     let server_cpu = process_cpu(server_pid) - start.2;
     let ours_cycles = ours_replies() - start.3;
     let base_cycles = base_replies(&baseline) - start.4;
@@ -304,7 +316,7 @@ fn replay(
     let thread = std::thread::Builder::new().name("replay-1".into()).spawn({
         let frames = frames.to_vec();
         move || {
-            let before = threads_cpu("replay-");
+            let before = threads_run_s("replay-");
             let mut out = Vec::with_capacity(4096);
             let mut stages = vec![("", 0u64); 5];
             let mut flush = if cold {
@@ -325,7 +337,7 @@ fn replay(
                 }
             }
             std::hint::black_box(&flush);
-            (threads_cpu("replay-") - before, stages)
+            (threads_run_s("replay-") - before, stages)
         }
     })?;
     let (cpu_s, stages) = thread.join().map_err(|_| "the replay panicked")?;
@@ -363,16 +375,21 @@ mod tests {
                         }
                     }
                     std::hint::black_box(x);
-                    threads_cpu(&prefix)
+                    let ticks: f64 = threads_stats(&prefix).filter_map(|s| cpu_seconds(&s)).sum();
+                    (ticks, threads_run_s(&prefix))
                 })
                 .unwrap()
                 .join()
                 .unwrap()
         };
-        let busy = run("cpubusy-1", true);
-        let idle = run("cpuidle-1", false);
+        let (busy, busy_run) = run("cpubusy-1", true);
+        let (idle, idle_run) = run("cpuidle-1", false);
         assert!((0.1..=0.5).contains(&busy), "busy: {busy} s");
         assert!(idle < 0.05, "sleeping: {idle} s");
+        // The scheduler's run time says the same, in nanoseconds.
+        assert!((0.1..=0.5).contains(&busy_run), "busy: {busy_run} s");
+        assert!(idle_run < 0.05, "sleeping: {idle_run} s");
+        assert!((busy_run - busy).abs() < 0.05, "{busy_run} vs {busy}");
         assert!(peak_rss_mb() > 1.0);
     }
 }

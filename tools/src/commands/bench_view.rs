@@ -8,6 +8,7 @@
 //! time) per agent-cycle is summed per kind of phase. Alternating phases in one match cancel the drift of the game and the
 //! machine; the ratio is the figure.
 
+use super::bench_cycle::threads_run_s;
 use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs};
 use super::CliResult;
 use libero_agent::{AgentConfig, AgentStats, Team};
@@ -17,25 +18,6 @@ use std::process::ExitCode;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// CPU seconds of this process's threads whose name starts with `prefix`, from the
-/// scheduler's nanosecond run times (`/proc/self/task/*/schedstat`): the clock ticks of
-/// `stat` (10 ms) are too coarse for phases of a few seconds.
-fn threads_run_s(prefix: &str) -> f64 {
-    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
-        return f64::NAN;
-    };
-    tasks
-        .flatten()
-        .filter(|t| {
-            std::fs::read_to_string(t.path().join("comm"))
-                .is_ok_and(|name| name.trim_end().starts_with(prefix))
-        })
-        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
-        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .sum::<f64>()
-        / 1e9
-}
 
 pub fn bench_view(players: u32, play_s: f64, phases: u32, data: &DataArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
