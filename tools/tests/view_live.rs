@@ -62,12 +62,28 @@ fn the_live_view_draws_the_match_as_logged_and_a_replay_steps_through_the_logs()
 
     let browser = browser();
     let tab = browser.new_tab().unwrap();
-    tab.navigate_to(&format!("{url}?agent=Libero/3")).unwrap();
+    tab.navigate_to(&url).unwrap();
     tab.wait_until_navigated().unwrap();
     wait_until(
         &tab,
-        "document.querySelectorAll('g.robot').length === 6 && document.getElementById('mode').dataset.mode === 'PlayOn' && frame.monitor.time > 6",
+        "document.querySelectorAll('g.robot').length === 6 && document.getElementById('mode').dataset.mode === 'PlayOn' && frame.monitor.time > 4",
         Duration::from_secs(180),
+    );
+    // Select Libero 3 by clicking its robot on the field, as a user does.
+    let at = eval(
+        &tab,
+        r#"(() => { const r = document.querySelector('g.robot[data-team="Libero"][data-unum="3"] circle.body').getBoundingClientRect();
+            return JSON.stringify([r.left + r.width / 2, r.top + r.height / 2]); })()"#,
+    );
+    tab.click_point(headless_chrome::browser::tab::point::Point {
+        x: at[0].as_f64().unwrap(),
+        y: at[1].as_f64().unwrap(),
+    })
+    .unwrap();
+    wait_until(
+        &tab,
+        "document.getElementById('agent').value === 'Libero/3' && frame.monitor.time > 6 && frame.agents.some((a) => a.team === 'Libero' && a.unum === 3 && a.decision && a.decision.tree)",
+        Duration::from_secs(60),
     );
     eval(&tab, "document.getElementById('freeze').click(), true");
     let truth = monitor.snapshot();
