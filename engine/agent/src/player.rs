@@ -240,14 +240,6 @@ impl Player {
             self.decision
                 .note_intent(&self.intent.body, &self.world.pose());
         }
-        if view_due {
-            if let Some(view) = &self.view {
-                if let Some((generation, tree)) = self.decider.running_tree() {
-                    view.slot.publish_shape(generation, &tree);
-                }
-                view.slot.publish(&self.world, Some(&self.decision));
-            }
-        }
         self.tell_teammates();
         if self.share_trace {
             if let Ok(mut trace) = self.stats.trace.lock() {
@@ -283,6 +275,15 @@ impl Player {
                     self.world.game.unum
                 );
                 self.eval_log = None;
+            }
+        }
+        // After the log, which writes the same decision: the slot takes it over.
+        if view_due {
+            if let Some(view) = &self.view {
+                if let Some((generation, tree)) = self.decider.running_tree() {
+                    view.slot.publish_shape(generation, &tree);
+                }
+                view.slot.publish(&self.world, &mut self.decision);
             }
         }
         stopwatch.lap(&self.stats.stages.decide_ns);

@@ -228,8 +228,8 @@ impl DecisionView {
 }
 
 impl AgentView {
-    /// Copy the world's beliefs (and, when given, the decision) into this view.
-    pub fn fill(&mut self, world: &World, decision: Option<&DecisionView>) {
+    /// Copy the world's beliefs into this view (the decision is handed over apart).
+    pub fn fill(&mut self, world: &World) {
         self.time = world.time;
         self.cycle = world.cycle;
         self.team.clear();
@@ -264,11 +264,6 @@ impl AgentView {
         self.truth = world
             .truth_pose()
             .map(|(position, yaw_deg)| TruthView { position, yaw_deg });
-        match (decision, &mut self.decision) {
-            (Some(d), Some(mine)) => mine.clone_from(d),
-            (Some(d), None) => self.decision = Some(d.clone()),
-            (None, _) => self.decision = None,
-        }
     }
 }
 
@@ -319,11 +314,6 @@ impl ViewSlot {
         self.enabled.store(enabled, Ordering::Relaxed);
     }
 
-    /// How often the agent copies its view.
-    pub fn period(&self) -> Duration {
-        self.period
-    }
-
     /// Copies made so far.
     pub fn copies(&self) -> u64 {
         self.copies.load(Ordering::Relaxed)
@@ -344,11 +334,26 @@ impl ViewSlot {
         (*g == generation).then(|| TreeShape::of(tree, *g))
     }
 
-    pub(crate) fn publish(&self, world: &World, decision: Option<&DecisionView>) {
+    /// Copy the beliefs in and hand the decision over: it is swapped with the slot's older
+    /// one, whose room the agent then refills (every field of it) the next time.
+    pub(crate) fn publish(&self, world: &World, decision: &mut DecisionView) {
         if let Ok(mut latest) = self.latest.lock() {
-            latest.fill(world, decision);
+            latest.fill(world);
+            std::mem::swap(
+                latest.decision.get_or_insert_with(DecisionView::default),
+                decision,
+            );
         }
         self.copies.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Whether the latest copy is of this agent.
+    pub fn is(&self, team: &str, unum: u32) -> bool {
+        self.copies() > 0
+            && self
+                .latest
+                .lock()
+                .is_ok_and(|v| v.team == team && v.unum == unum)
     }
 
     pub(crate) fn publish_shape(&self, generation: u64, tree: &Arc<CompiledTree>) {

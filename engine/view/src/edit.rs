@@ -266,13 +266,11 @@ impl EditTarget {
     /// Every formation file of the folder, read for the editor.
     pub fn formations(&self) -> Vec<FormationDoc> {
         let mut report = Report::default();
+        let folder = self.formations.canonicalize().ok();
         let mut docs: Vec<FormationDoc> =
             ron_files(std::slice::from_ref(&self.formations), &mut report)
                 .into_iter()
-                .filter(|p| {
-                    p.parent().and_then(|d| d.canonicalize().ok())
-                        == self.formations.canonicalize().ok()
-                })
+                .filter(|p| p.parent().and_then(|d| d.canonicalize().ok()) == folder)
                 .filter_map(|path| {
                     let name = path.file_name()?.to_str()?.to_string();
                     let text = read_text(&path).ok()?;

@@ -2,9 +2,8 @@
 //! two writes, which need `--edit`, the run's token and a request from the page's own origin.
 
 use crate::edit::{EditError, EditTarget, FormationDoc};
-use crate::stream::{Clients, Frame, Reloads, CLIENT_QUEUE};
+use crate::stream::{live_frame, Clients, Frame, Reloads, CLIENT_QUEUE};
 use crate::{MonitorView, Source};
-use libero_agent::AgentView;
 use libero_model::FieldGeometry;
 use serde::{Deserialize, Serialize};
 use std::io::Read;
@@ -223,40 +222,32 @@ fn frame(shared: &Shared, step: Option<&str>) -> Response<std::io::Cursor<Vec<u8
                 },
             )
         }
-        Source::Live(set) => {
-            let views: Vec<AgentView> = set.agents().iter().filter_map(|a| a.latest()).collect();
-            let monitor = set.monitor();
-            json(
-                200,
-                &Frame {
-                    seq: 0,
-                    time: monitor.as_ref().map_or(0.0, |m| m.time),
-                    step: None,
-                    monitor,
-                    agents: &views,
-                    reloads: shared.reloads.list(),
-                    files: shared.reloads.files(),
-                },
-            )
-        }
+        Source::Live(set) => match live_frame(shared, set, 0, &mut Vec::new()) {
+            Ok(body) => Response::from_data(body.into_bytes())
+                .with_header(header("Content-Type", "application/json"))
+                .with_header(header("Cache-Control", "no-store")),
+            Err(e) => refuse(500, format!("frame not encoded: {e}")),
+        },
     }
 }
 
+/// The agent a request names: `?team=…&unum=…`.
+fn agent_in(url: &str) -> (String, u32) {
+    let team = percent_decode(query(url, "team").unwrap_or(""));
+    let unum = query(url, "unum").and_then(|u| u.parse().ok()).unwrap_or(0);
+    (team, unum)
+}
+
 fn tree(shared: &Shared, url: &str) -> Response<std::io::Cursor<Vec<u8>>> {
-    let team = query(url, "team").unwrap_or("");
-    let unum: u32 = query(url, "unum").and_then(|u| u.parse().ok()).unwrap_or(0);
+    let (team, unum) = agent_in(url);
     let generation: u64 = query(url, "generation")
         .and_then(|g| g.parse().ok())
         .unwrap_or(0);
-    let team = percent_decode(team);
     let shape = match &shared.source {
         Source::Replay(replay) => replay.shape(&team, unum, generation).cloned(),
-        Source::Live(set) => set.agents().iter().find_map(|a| {
-            let latest = a.latest()?;
-            (latest.team == team && latest.unum == unum)
-                .then(|| a.shape(generation))
-                .flatten()
-        }),
+        Source::Live(set) => set
+            .slot_of(&team, unum)
+            .and_then(|slot| slot.shape(generation)),
     };
     match shape {
         Some(shape) => json(200, &shape),
@@ -272,26 +263,17 @@ const SELECTION_HOLDS: Duration = Duration::from_secs(5);
 
 /// A browser has an agent selected: that agent copies its whole decision for a while.
 fn select(shared: &Shared, url: &str) -> Response<std::io::Cursor<Vec<u8>>> {
-    let team = percent_decode(query(url, "team").unwrap_or(""));
-    let unum: u32 = query(url, "unum").and_then(|u| u.parse().ok()).unwrap_or(0);
+    let (team, unum) = agent_in(url);
     let Source::Live(set) = &shared.source else {
         // A replay shows what the logs hold.
         return json(200, &true);
     };
-    let mut found = false;
-    for slot in set.agents() {
-        if slot
-            .latest()
-            .is_some_and(|v| v.team == team && v.unum == unum)
-        {
+    match set.slot_of(&team, unum) {
+        Some(slot) => {
             slot.want_detail_for(SELECTION_HOLDS);
-            found = true;
+            json(200, &true)
         }
-    }
-    if found {
-        json(200, &true)
-    } else {
-        refuse(404, format!("no agent {team} {unum} in the view"))
+        None => refuse(404, format!("no agent {team} {unum} in the view")),
     }
 }
 

@@ -85,6 +85,16 @@ impl LiveSet {
         self.agents.lock().map(|a| a.clone()).unwrap_or_default()
     }
 
+    /// The slot showing this agent.
+    pub(crate) fn slot_of(&self, team: &str, unum: u32) -> Option<Arc<ViewSlot>> {
+        self.agents
+            .lock()
+            .ok()?
+            .iter()
+            .find(|s| s.is(team, unum))
+            .cloned()
+    }
+
     pub(crate) fn libraries(&self) -> Vec<(String, Arc<LiveLibrary>)> {
         self.libraries.lock().map(|l| l.clone()).unwrap_or_default()
     }

@@ -189,11 +189,7 @@ fn file_reloads(
                 at_s: note.at_s,
                 accepted: note.accepted,
                 generation: note.generation,
-                diagnostics: if mine.diagnostics.is_empty() {
-                    String::new()
-                } else {
-                    mine.render_text()
-                },
+                diagnostics: rendered(&mine),
             }
         })
         .collect()
@@ -210,6 +206,15 @@ pub struct Frame<'a> {
     pub agents: &'a [AgentView],
     pub reloads: Vec<ReloadNote>,
     pub files: Vec<FileReload>,
+}
+
+/// A report as `libero validate` prints it; nothing for an empty one (not its "0 errors").
+fn rendered(report: &libero_behavior::Report) -> String {
+    if report.diagnostics.is_empty() {
+        String::new()
+    } else {
+        report.render_text()
+    }
 }
 
 fn note_of(team: &str, at_s: f64, event: &ReloadEvent) -> ReloadNote {
@@ -234,12 +239,35 @@ fn note_of(team: &str, at_s: f64, event: &ReloadEvent) -> ReloadNote {
         accepted,
         generation,
         files,
-        report: if report.diagnostics.is_empty() {
-            String::new()
-        } else {
-            report.render_text()
-        },
+        report: rendered(report),
     }
+}
+
+/// This moment's live frame as JSON: the agents' latest copies (into `views`, reused), the
+/// monitor, the reload panels.
+pub fn live_frame(
+    shared: &Shared,
+    set: &crate::LiveSet,
+    seq: u64,
+    views: &mut Vec<AgentView>,
+) -> serde_json::Result<String> {
+    views.clear();
+    views.extend(set.agents().iter().filter_map(|a| a.latest()));
+    let monitor = set.monitor();
+    let time = monitor
+        .as_ref()
+        .map(|m| m.time)
+        .or_else(|| views.iter().map(|v| v.time).reduce(f64::max))
+        .unwrap_or(0.0);
+    serde_json::to_string(&Frame {
+        seq,
+        time,
+        step: None,
+        monitor,
+        agents: views,
+        reloads: shared.reloads.list(),
+        files: shared.reloads.files(),
+    })
 }
 
 /// A library whose reloads the panel follows.
@@ -255,7 +283,6 @@ pub fn broadcast(shared: &Shared, stop: &AtomicBool) {
         return;
     };
     let started = Instant::now();
-    // Reload events seen, by library (pointer) so a new half's libraries start afresh.
     // Reload events seen and file times, by library, so a new half's libraries start afresh.
     let mut followed: Vec<Followed> = Vec::new();
     let mut views: Vec<AgentView> = Vec::new();
@@ -292,29 +319,11 @@ pub fn broadcast(shared: &Shared, stop: &AtomicBool) {
                 shared.reloads.push(note);
             }
         }
-        let agents = set.agents();
-        let copies: u64 = agents.iter().map(|a| a.copies()).sum();
+        let copies: u64 = set.agents().iter().map(|a| a.copies()).sum();
         if shared.clients.count() > 0 && copies != last_copies {
             last_copies = copies;
-            views.clear();
-            views.extend(agents.iter().filter_map(|a| a.latest()));
-            let monitor = set.monitor();
-            let time = monitor
-                .as_ref()
-                .map(|m| m.time)
-                .or_else(|| views.iter().map(|v| v.time).reduce(f64::max))
-                .unwrap_or(0.0);
             seq += 1;
-            let frame = Frame {
-                seq,
-                time,
-                step: None,
-                monitor,
-                agents: &views,
-                reloads: shared.reloads.list(),
-                files: shared.reloads.files(),
-            };
-            match serde_json::to_string(&frame) {
+            match live_frame(shared, set, seq, &mut views) {
                 Ok(json) => {
                     shared.clients.send(&Arc::from(json));
                 }

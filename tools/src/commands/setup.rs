@@ -84,16 +84,24 @@ impl DataArgs {
 
     /// Load (and, unless `--no-watch`, watch) the files; every error is reported at once.
     pub fn source(&self) -> Result<LibrarySource, Box<dyn std::error::Error>> {
+        let [behaviors, formations] = self.folders();
+        Ok(libero_agent::build::load_library(
+            &[behaviors, formations],
+            !self.no_watch,
+        )?)
+    }
+
+    /// The behaviors and formations folders, the repository's where none is given.
+    pub fn folders(&self) -> [PathBuf; 2] {
         let defaults = libero_agent::build::default_data_dirs();
-        let dirs = vec![
+        [
             self.behaviors
                 .clone()
                 .unwrap_or_else(|| defaults[0].clone()),
             self.formations
                 .clone()
                 .unwrap_or_else(|| defaults[1].clone()),
-        ];
-        Ok(libero_agent::build::load_library(&dirs, !self.no_watch)?)
+        ]
     }
 }
 

@@ -55,15 +55,7 @@ impl LiveView {
             return Ok(None);
         };
         let edit = args.edit.then(|| {
-            let defaults = libero_agent::build::default_data_dirs();
-            let behaviors = data
-                .behaviors
-                .clone()
-                .unwrap_or_else(|| defaults[0].clone());
-            let formations = data
-                .formations
-                .clone()
-                .unwrap_or_else(|| defaults[1].clone());
+            let [behaviors, formations] = data.folders();
             EditTarget {
                 library_dirs: vec![behaviors, formations.clone()],
                 formations,
