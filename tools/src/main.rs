@@ -1,6 +1,7 @@
 //! `libero`: run agents, teams, servers and matches; validate behavior files.
 
 mod commands;
+mod fleet;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -40,6 +41,9 @@ enum Command {
     /// The hardening match (#13): long play with an edit every few seconds, good and broken;
     /// judged on RSS growth, connections, missed cycles and panics.
     Soak(commands::soak::SoakArgs),
+    /// Many matches (or scenario runs) here or on a Ray cluster: wins, goal difference with
+    /// its interval, and a sequential test that stops once the difference is clear.
+    Series(commands::series::SeriesArgs),
     /// Replay evaluation logs in the field view (a web page served on loopback).
     View(commands::view::ViewCommandArgs),
 }
@@ -61,6 +65,7 @@ fn main() -> ExitCode {
         Command::Scenario(args) => commands::scenario::run(args),
         Command::Soak(args) => commands::soak::run(args),
         Command::View(args) => commands::view::run(args),
+        Command::Series(args) => commands::series::run(args),
     };
     match result {
         Ok(code) => code,

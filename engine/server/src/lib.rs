@@ -10,7 +10,9 @@ pub mod venv;
 
 pub use monitor::{GameSnapshot, Monitor};
 pub use process::{Rules, ServerOptions, ServerProcess};
-pub use venv::{ensure_installed, Installation, RCSSSMJ_VERSION};
+pub use venv::{
+    ensure_installed, ensure_ray_installed, Installation, RAY_VERSION, RCSSSMJ_VERSION,
+};
 
 /// Why the server could not be provided.
 #[derive(Debug, thiserror::Error)]
@@ -19,7 +21,7 @@ pub enum ServerError {
     NoPython,
     #[error("could not create the virtualenv at {path}: {detail}\nhint: on Debian install `python3-venv`; or set LIBERO_VENV to an existing virtualenv")]
     Venv { path: String, detail: String },
-    #[error("pip could not install rcsssmj=={version} into {path}: {detail}\nhint: check that the package registry is reachable, or pre-install it and set LIBERO_VENV")]
+    #[error("pip could not install {version} into {path}: {detail}\nhint: check that the package registry is reachable, or pre-install it and set LIBERO_VENV")]
     Pip {
         version: String,
         path: String,

@@ -8,6 +8,9 @@ use std::process::Command;
 /// The server version every test and match runs against.
 pub const RCSSSMJ_VERSION: &str = "0.2.1";
 
+/// The Ray version `--ray` runs on (driver and cluster must agree; the driver checks).
+pub const RAY_VERSION: &str = "2.60.0";
+
 /// A virtualenv with the server installed.
 #[derive(Debug, Clone)]
 pub struct Installation {
@@ -83,8 +86,46 @@ pub fn ensure_installed() -> Result<Installation, ServerError> {
         ])
         .arg(format!("rcsssmj=={RCSSSMJ_VERSION}")))
     .map_err(|detail| ServerError::Pip {
-        version: RCSSSMJ_VERSION.into(),
+        version: format!("rcsssmj=={RCSSSMJ_VERSION}"),
         path: venv.display().to_string(),
+        detail,
+    })?;
+    File::create(&marker).map_err(|e| ServerError::Io(marker.display().to_string(), e))?;
+    Ok(install)
+}
+
+/// Make sure the pinned Ray is in the virtualenv too (for `--ray` and `ray start`), installing
+/// it on first use; the server comes first.
+pub fn ensure_ray_installed() -> Result<Installation, ServerError> {
+    let install = ensure_installed()?;
+    let marker = install.venv.join(format!(".libero-ray-{RAY_VERSION}"));
+    if marker.exists() {
+        return Ok(install);
+    }
+    let lock_path = install.venv.join(".libero-ray.lock");
+    let lock = File::create(&lock_path)
+        .map_err(|e| ServerError::Io(lock_path.display().to_string(), e))?;
+    lock.lock()
+        .map_err(|e| ServerError::Io(lock_path.display().to_string(), e))?;
+    if marker.exists() {
+        return Ok(install);
+    }
+    log::info!(
+        "installing ray=={RAY_VERSION} into {} (first use only)",
+        install.venv.display()
+    );
+    run(Command::new(install.python())
+        .args([
+            "-m",
+            "pip",
+            "install",
+            "--disable-pip-version-check",
+            "--quiet",
+        ])
+        .arg(format!("ray=={RAY_VERSION}")))
+    .map_err(|detail| ServerError::Pip {
+        version: format!("ray=={RAY_VERSION}"),
+        path: install.venv.display().to_string(),
         detail,
     })?;
     File::create(&marker).map_err(|e| ServerError::Io(marker.display().to_string(), e))?;

@@ -8,6 +8,7 @@ pub mod bench_view;
 pub mod matchup;
 pub mod optimize;
 pub mod scenario;
+pub mod series;
 pub mod server;
 pub mod setup;
 pub mod soak;

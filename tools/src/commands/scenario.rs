@@ -21,6 +21,9 @@ pub struct ScenarioArgs {
     /// `json` prints one document with the figures and every run.
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
+    /// Also write the JSON document to this file.
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
     /// Behavior, strategy and skill files of the Libero robots (watched: edits apply to the
     /// running scenario unless `--no-watch`).
     #[command(flatten)]
@@ -66,6 +69,10 @@ pub fn run(args: ScenarioArgs) -> CliResult {
     match args.format {
         Format::Text => print!("{}", summary.render_text()),
         Format::Json => println!("{}", summary.render_json()),
+    }
+    if let Some(path) = &args.report {
+        std::fs::write(path, summary.render_json() + "\n")
+            .map_err(|e| format!("cannot write the report {}: {e}", path.display()))?;
     }
     match error {
         Some(e) => Err(format!(

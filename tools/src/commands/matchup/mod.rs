@@ -37,6 +37,9 @@ pub struct MatchArgs {
     /// Two halves, the teams changing sides (a second server run: rcssservermj plays one half).
     #[arg(long)]
     pub full: bool,
+    /// The home team plays the first half on the right (and kicks off second).
+    #[arg(long)]
+    pub home_right: bool,
     /// The home team's folder: `behaviors/`, `formations/` and `<robot>.ron` skill parameters
     /// inside it, each optional [default: this repository's; `--behaviors` etc. override]
     #[arg(long, value_name = "DIR")]
@@ -130,8 +133,9 @@ pub fn run(args: MatchArgs) -> CliResult {
     let mut halves = Vec::new();
     let halves_to_play = if args.full { 2 } else { 1 };
     for half in 1..=halves_to_play {
-        // The home team takes the left side in the first half, the right in the second.
-        let order = if half == 1 {
+        // The home team takes the left side in the first half (the right with `--home-right`),
+        // the other in the second.
+        let order = if (half == 1) != args.home_right {
             [&home, &away]
         } else {
             [&away, &home]
