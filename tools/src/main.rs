@@ -34,6 +34,8 @@ enum Command {
     Server(commands::server::ServerCommand),
     /// Tune a skill's parameters with CMA-ES against real servers; writes the best back.
     Optimize(commands::optimize::OptimizeArgs),
+    /// One optimizer candidate's cost on a fresh server, as JSON (a job of `optimize --ray`).
+    Evaluate(commands::optimize::EvaluateArgs),
     /// Measure a skill on a real server (e.g. `libero bench walk`).
     Bench(commands::bench::BenchArgs),
     /// Run a scenario file's situation N times on a real server; success rate and times.
@@ -61,6 +63,7 @@ fn main() -> ExitCode {
         Command::Validate(args) => commands::behavior::validate(args),
         Command::Nodes(args) => commands::behavior::nodes(args),
         Command::Optimize(args) => commands::optimize::run(args),
+        Command::Evaluate(args) => commands::optimize::evaluate(args),
         Command::Bench(args) => commands::bench::run(args),
         Command::Scenario(args) => commands::scenario::run(args),
         Command::Soak(args) => commands::soak::run(args),

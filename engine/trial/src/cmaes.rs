@@ -3,9 +3,10 @@
 //! (each parameter scaled so that 1 is a sensible step) and map back themselves.
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use serde::{Deserialize, Serialize};
 
 /// A small deterministic generator (xorshift64*), so optimiser runs are repeatable by seed.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Rng(u64);
 
 impl Rng {
@@ -35,7 +36,8 @@ impl Rng {
     }
 }
 
-/// The optimiser state.
+/// The optimiser state (serialisable whole, for checkpoints).
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct CmaEs {
     n: usize,
     lambda: usize,

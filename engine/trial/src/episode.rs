@@ -21,6 +21,11 @@ pub enum TrialError {
     Agent(#[from] libero_agent::run::AgentError),
     #[error("the episode recorded nothing: the agent never got a percept")]
     Empty,
+    /// An evaluation run elsewhere (a job on another process or machine) failed.
+    #[error("evaluation failed: {0}")]
+    Elsewhere(String),
+    #[error("checkpoint {path}: {detail}")]
+    Checkpoint { path: String, detail: String },
 }
 
 /// The robot's state at one cycle, from the server's ground truth.

@@ -4,6 +4,7 @@ use super::{Bundle, Executor, Finished, Job, JobResult};
 use serde::Deserialize;
 use std::collections::HashSet;
 use std::io::{BufRead, BufReader, Write};
+use std::os::unix::process::CommandExt;
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
 use std::time::Duration;
@@ -70,7 +71,19 @@ impl RayExecutor {
         std::fs::write(&script, DRIVER).map_err(|e| format!("{}: {e}", script.display()))?;
         let log_path = bundle.scratch().join("ray-driver.log");
         let log = std::fs::File::create(&log_path).map_err(|e| e.to_string())?;
-        let mut driver = Command::new(install.python())
+        let mut command = Command::new(install.python());
+        // The driver dies with this process (killed or not), and Ray then stops its tasks:
+        // nothing is left running on the cluster for a driver nobody reads.
+        // SAFETY: only prctl, async-signal-safe, between fork and exec.
+        unsafe {
+            command.pre_exec(|| {
+                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
+                    return Err(std::io::Error::last_os_error());
+                }
+                Ok(())
+            });
+        }
+        let mut driver = command
             .arg(&script)
             .args(["--address", address, "--bundle"])
             .arg(bundle.root())

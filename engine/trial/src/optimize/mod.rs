@@ -5,6 +5,7 @@
 //! parallel. Parameters are searched in coordinates normalised to their allowed range, so one
 //! step size fits all, and the best are written back into the parameter file in place.
 
+pub mod checkpoint;
 pub mod kick;
 pub mod walk;
 
@@ -85,14 +86,18 @@ pub struct Options {
     pub generations: usize,
     /// Candidates per generation (`None`: CMA-ES default).
     pub population: Option<usize>,
-    /// Servers evaluating in parallel.
-    pub servers: usize,
     /// Initial step size in normalised units (1 = the whole range).
     pub sigma: f64,
     pub seed: u64,
     /// Stop after the generation that ends past this much wall time (the server's speed
     /// depends on the machine's load, so a budget in generations alone can run far over).
     pub budget: Option<std::time::Duration>,
+    /// Written after every generation; a run that finds one from the same search continues
+    /// from it (see [`checkpoint`]).
+    pub checkpoint: Option<std::path::PathBuf>,
+    /// What else makes two runs the same search (the objective, the start file's text), so a
+    /// checkpoint is only taken up by the search that wrote it.
+    pub identity: String,
 }
 
 /// The result of a search.
@@ -102,10 +107,70 @@ pub struct Outcome {
     pub start_cost: f64,
     /// Candidates per generation.
     pub population: usize,
-    /// Parameter sets evaluated, the start included.
+    /// Parameter sets evaluated in this run, the start included unless resumed.
     pub evaluations: usize,
-    /// (generation, best cost so far, mean cost of the generation)
+    /// (generation, best cost so far, mean cost of the generation), resumed ones included.
     pub history: Vec<(usize, f64, f64)>,
+    /// The generation a checkpoint let this run start after (0: from the start).
+    pub resumed_after: usize,
+}
+
+/// Where candidates are evaluated: [`LocalServers`] on this machine, or elsewhere (the
+/// `libero` program's Ray executor).
+pub trait Evaluator {
+    /// The costs of `candidates`, in order (lower is better).
+    fn costs(&mut self, candidates: &[SkillParams]) -> Result<Vec<f64>, TrialError>;
+}
+
+/// Fast-mode servers on this machine, each evaluating candidates in turn on its own thread.
+pub struct LocalServers<'a> {
+    trials: Vec<Trial>,
+    objective: &'a dyn Objective,
+}
+
+impl<'a> LocalServers<'a> {
+    pub fn start(servers: usize, objective: &'a dyn Objective) -> Result<Self, TrialError> {
+        let trials = (0..servers.max(1))
+            .map(|_| Trial::start())
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Self { trials, objective })
+    }
+}
+
+impl Evaluator for LocalServers<'_> {
+    fn costs(&mut self, candidates: &[SkillParams]) -> Result<Vec<f64>, TrialError> {
+        let objective = self.objective;
+        let next = Mutex::new(0usize);
+        let costs = Mutex::new(vec![f64::INFINITY; candidates.len()]);
+        let failure: Mutex<Option<TrialError>> = Mutex::new(None);
+        std::thread::scope(|scope| {
+            for trial in self.trials.iter_mut() {
+                let (next, costs, failure) = (&next, &costs, &failure);
+                scope.spawn(move || loop {
+                    let i = {
+                        let mut n = next.lock().expect("index lock");
+                        let i = *n;
+                        *n += 1;
+                        i
+                    };
+                    let Some(params) = candidates.get(i) else {
+                        break;
+                    };
+                    match objective.cost(trial, params) {
+                        Ok(c) => costs.lock().expect("cost lock")[i] = c,
+                        Err(e) => {
+                            *failure.lock().expect("failure lock") = Some(e);
+                            break;
+                        }
+                    }
+                });
+            }
+        });
+        if let Some(e) = failure.into_inner().expect("failure lock") {
+            return Err(e);
+        }
+        Ok(costs.into_inner().expect("cost lock"))
+    }
 }
 
 fn to_normalised(params: &SkillParams, tunables: &[Tunable]) -> Vec<f64> {
@@ -134,34 +199,76 @@ fn box_penalty(x: &[f64]) -> f64 {
 pub fn optimize(
     start: &SkillParams,
     tunables: &[Tunable],
-    objective: &dyn Objective,
+    evaluator: &mut dyn Evaluator,
     options: &Options,
     mut report: impl FnMut(usize, f64, f64, &SkillParams),
 ) -> Result<Outcome, TrialError> {
     let began = std::time::Instant::now();
-    let mut trials = (0..options.servers.max(1))
-        .map(|_| Trial::start())
-        .collect::<Result<Vec<_>, _>>()?;
-    let start_cost = objective.cost(&mut trials[0], start)?;
-    let mut best = (start_cost, start.clone());
-    let mut es = CmaEs::new(
-        to_normalised(start, tunables),
-        options.sigma,
-        options.population,
-        options.seed,
-    );
-    let mut history = Vec::new();
-    for generation in 1..=options.generations {
+    let identity = checkpoint::identity(tunables, options);
+    let resumed = match &options.checkpoint {
+        Some(path) => checkpoint::load(path, &identity)?,
+        None => None,
+    };
+    let mut evaluations = 0;
+    let (mut es, start_cost, mut best, mut history) = match resumed {
+        Some(saved) => {
+            let best = from_normalised(start, &saved.best_x, tunables);
+            (
+                saved.es,
+                saved.start_cost,
+                (saved.best_cost, best),
+                saved.history,
+            )
+        }
+        None => {
+            let start_cost = evaluator.costs(std::slice::from_ref(start))?[0];
+            evaluations += 1;
+            let es = CmaEs::new(
+                to_normalised(start, tunables),
+                options.sigma,
+                options.population,
+                options.seed,
+            );
+            (es, start_cost, (start_cost, start.clone()), Vec::new())
+        }
+    };
+    let resumed_after = es.generation();
+    let mut best_x = to_normalised(&best.1, tunables);
+    for generation in resumed_after + 1..=options.generations {
         let xs = es.ask();
-        let costs = evaluate_all(&mut trials, start, &xs, tunables, objective)?;
+        let candidates: Vec<SkillParams> = xs
+            .iter()
+            .map(|x| from_normalised(start, x, tunables))
+            .collect();
+        let raw = evaluator.costs(&candidates)?;
+        evaluations += candidates.len();
+        let costs: Vec<f64> = raw
+            .iter()
+            .zip(&xs)
+            .map(|(c, x)| c + box_penalty(x))
+            .collect();
         es.tell(&xs, &costs);
         let mean = costs.iter().sum::<f64>() / costs.len() as f64;
-        for (x, &c) in xs.iter().zip(&costs) {
+        for ((x, candidate), &c) in xs.iter().zip(candidates).zip(&costs) {
             if c < best.0 {
-                best = (c, from_normalised(start, x, tunables));
+                best = (c, candidate);
+                best_x = x.clone();
             }
         }
         history.push((generation, best.0, mean));
+        if let Some(path) = &options.checkpoint {
+            checkpoint::save(
+                path,
+                &checkpoint::Checkpoint {
+                    identity: identity.clone(),
+                    start_cost,
+                    best_cost: best.0,
+                    best_x: best_x.clone(),
+                    history: history.clone(),
+                    es: es.clone(),
+                },
+            )?;
+        }
         report(generation, best.0, mean, &best.1);
         if options.budget.is_some_and(|b| began.elapsed() > b) {
             break;
@@ -172,47 +279,10 @@ pub fn optimize(
         best_cost: best.0,
         start_cost,
         population: es.population_size(),
-        evaluations: 1 + es.population_size() * history.len(),
+        evaluations,
         history,
+        resumed_after,
     })
-}
-
-fn evaluate_all(
-    trials: &mut [Trial],
-    base: &SkillParams,
-    xs: &[Vec<f64>],
-    tunables: &[Tunable],
-    objective: &dyn Objective,
-) -> Result<Vec<f64>, TrialError> {
-    let next = Mutex::new(0usize);
-    let costs = Mutex::new(vec![f64::INFINITY; xs.len()]);
-    let failure: Mutex<Option<TrialError>> = Mutex::new(None);
-    std::thread::scope(|scope| {
-        for trial in trials.iter_mut() {
-            let (next, costs, failure) = (&next, &costs, &failure);
-            scope.spawn(move || loop {
-                let i = {
-                    let mut n = next.lock().expect("index lock");
-                    let i = *n;
-                    *n += 1;
-                    i
-                };
-                let Some(x) = xs.get(i) else { break };
-                let params = from_normalised(base, x, tunables);
-                match objective.cost(trial, &params) {
-                    Ok(c) => costs.lock().expect("cost lock")[i] = c + box_penalty(x),
-                    Err(e) => {
-                        *failure.lock().expect("failure lock") = Some(e);
-                        break;
-                    }
-                }
-            });
-        }
-    });
-    if let Some(e) = failure.into_inner().expect("failure lock") {
-        return Err(e);
-    }
-    Ok(costs.into_inner().expect("cost lock"))
 }
 
 /// Replace the values of `tunables` in the RON text of a parameter file by those of `best`,
