@@ -10,7 +10,11 @@ use std::sync::atomic::Ordering;
 #[derive(Subcommand)]
 pub enum ServerCommand {
     /// Install the pinned rcssservermj into the project's virtualenv (first use does it too).
-    Install,
+    Install {
+        /// Also the pinned Ray (`--ray` and `ray start` need it; first use does it too).
+        #[arg(long)]
+        with_ray: bool,
+    },
     /// Start a headless server on 127.0.0.1 and keep it running until Ctrl-C.
     Start(StartArgs),
 }
@@ -49,12 +53,20 @@ impl StartArgs {
 
 pub fn run(cmd: ServerCommand) -> CliResult {
     match cmd {
-        ServerCommand::Install => {
+        ServerCommand::Install { with_ray } => {
             let install = ensure_installed()?;
             println!(
                 "rcssservermj installed: {}",
                 install.server_program().display()
             );
+            if with_ray {
+                let install = libero_server::ensure_ray_installed()?;
+                println!(
+                    "ray {} installed: {}",
+                    libero_server::RAY_VERSION,
+                    install.venv.join("bin/ray").display()
+                );
+            }
         }
         ServerCommand::Start(args) => {
             let shutdown = ctrl_c_flag();
