@@ -246,7 +246,7 @@ fn ray_runs_the_optimizer_and_a_series_through_a_killed_driver_and_a_killed_node
     let saved: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
     let done_before = saved["history"].as_array().unwrap().len();
-    assert!(done_before >= 1 && done_before < 3, "{saved}");
+    assert!((1..3).contains(&done_before), "{saved}");
     let mut again = libero();
     optimize(&mut again);
     let out = again.output().unwrap();

@@ -122,10 +122,11 @@ fn default_params_file() -> PathBuf {
     libero_server::venv::project_root().join("engine/skills/params/t1.ron")
 }
 
-/// The start parameters, the searched tunables and the objective, as `args` say.
-fn setup(
-    args: &ObjectiveArgs,
-) -> Result<(SkillParams, Vec<Tunable>, Box<dyn Objective>), Box<dyn std::error::Error>> {
+/// The start parameters, the searched tunables and the objective.
+type Search = (SkillParams, Vec<Tunable>, Box<dyn Objective>);
+
+/// The search `args` describe.
+fn setup(args: &ObjectiveArgs) -> Result<Search, Box<dyn std::error::Error>> {
     let model = RobotModel::builtin("T1")?;
     let start = SkillParams::load(&args.params, &model)?;
     let mut names: Vec<&str> = args.tunables.iter().map(String::as_str).collect();

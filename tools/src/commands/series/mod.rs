@@ -409,7 +409,11 @@ fn read_match(index: usize, result: &JobResult) -> Result<MatchResult, String> {
         .ok_or("the match report has no score")?;
     Ok(MatchResult {
         index,
-        home_side: if index % 2 == 0 { "left" } else { "right" },
+        home_side: if index.is_multiple_of(2) {
+            "left"
+        } else {
+            "right"
+        },
         score,
         node: done.node.clone(),
         wall_s: done.wall_s,
