@@ -374,17 +374,10 @@ fn choose_ports(agent: Option<u16>, monitor: Option<u16>) -> Result<(u16, u16), 
     Ok((port_of(&a)?, port_of(&m)?))
 }
 
-/// Start `cmd` so that it dies with this process, however this process ends (a killed test
-/// or benchmark would otherwise leave a server running, and rcsssmj 0.2.1 grows by gigabytes
-/// over a long life). Linux delivers the parent-death signal when the *thread* that forked
-/// exits, so every server is forked from one thread that lives as long as the process.
-fn spawn_tied_to_this_process(mut cmd: Command) -> std::io::Result<Child> {
+/// Make the child `cmd` starts get SIGKILL when the thread that starts it exits (with the
+/// process, if that thread lives as long). Call it from a thread that does.
+pub fn die_with_parent(cmd: &mut Command) {
     use std::os::unix::process::CommandExt;
-    use std::sync::mpsc;
-    use std::sync::Mutex;
-    type Request = (Command, mpsc::Sender<std::io::Result<Child>>);
-    static SPAWNER: Mutex<Option<mpsc::Sender<Request>>> = Mutex::new(None);
-
     // SAFETY: between fork and exec only async-signal-safe calls are allowed; prctl is one.
     unsafe {
         cmd.pre_exec(|| {
@@ -394,6 +387,19 @@ fn spawn_tied_to_this_process(mut cmd: Command) -> std::io::Result<Child> {
             Ok(())
         });
     }
+}
+
+/// Start `cmd` so that it dies with this process, however this process ends (a killed test
+/// or benchmark would otherwise leave a server running, and rcsssmj 0.2.1 grows by gigabytes
+/// over a long life). Linux delivers the parent-death signal when the *thread* that forked
+/// exits, so every server is forked from one thread that lives as long as the process.
+fn spawn_tied_to_this_process(mut cmd: Command) -> std::io::Result<Child> {
+    use std::sync::mpsc;
+    use std::sync::Mutex;
+    type Request = (Command, mpsc::Sender<std::io::Result<Child>>);
+    static SPAWNER: Mutex<Option<mpsc::Sender<Request>>> = Mutex::new(None);
+
+    die_with_parent(&mut cmd);
     let requests = {
         let mut spawner = SPAWNER.lock().unwrap_or_else(|p| p.into_inner());
         spawner

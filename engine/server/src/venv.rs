@@ -76,20 +76,7 @@ pub fn ensure_installed() -> Result<Installation, ServerError> {
             }
         })?;
     }
-    run(Command::new(install.python())
-        .args([
-            "-m",
-            "pip",
-            "install",
-            "--disable-pip-version-check",
-            "--quiet",
-        ])
-        .arg(format!("rcsssmj=={RCSSSMJ_VERSION}")))
-    .map_err(|detail| ServerError::Pip {
-        version: format!("rcsssmj=={RCSSSMJ_VERSION}"),
-        path: venv.display().to_string(),
-        detail,
-    })?;
+    pip_install(&install, &format!("rcsssmj=={RCSSSMJ_VERSION}"))?;
     File::create(&marker).map_err(|e| ServerError::Io(marker.display().to_string(), e))?;
     Ok(install)
 }
@@ -114,6 +101,13 @@ pub fn ensure_ray_installed() -> Result<Installation, ServerError> {
         "installing ray=={RAY_VERSION} into {} (first use only)",
         install.venv.display()
     );
+    pip_install(&install, &format!("ray=={RAY_VERSION}"))?;
+    File::create(&marker).map_err(|e| ServerError::Io(marker.display().to_string(), e))?;
+    Ok(install)
+}
+
+/// `pip install SPEC` into the virtualenv.
+fn pip_install(install: &Installation, spec: &str) -> Result<(), ServerError> {
     run(Command::new(install.python())
         .args([
             "-m",
@@ -122,14 +116,12 @@ pub fn ensure_ray_installed() -> Result<Installation, ServerError> {
             "--disable-pip-version-check",
             "--quiet",
         ])
-        .arg(format!("ray=={RAY_VERSION}")))
+        .arg(spec))
     .map_err(|detail| ServerError::Pip {
-        version: format!("ray=={RAY_VERSION}"),
+        version: spec.to_string(),
         path: install.venv.display().to_string(),
         detail,
-    })?;
-    File::create(&marker).map_err(|e| ServerError::Io(marker.display().to_string(), e))?;
-    Ok(install)
+    })
 }
 
 fn which_python() -> Result<PathBuf, ServerError> {

@@ -82,15 +82,7 @@ impl LocalExecutor {
         let mut command = Command::new(self.root.join("libero"));
         // A job (and through it its server) dies with this process. The executor is driven
         // from one thread, which lives as long as the series or the optimizer.
-        // SAFETY: only prctl, async-signal-safe, between fork and exec.
-        unsafe {
-            command.pre_exec(|| {
-                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
+        libero_server::process::die_with_parent(&mut command);
         let child = command
             .args(&argv)
             .current_dir(&self.root)

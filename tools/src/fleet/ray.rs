@@ -4,7 +4,6 @@ use super::{Bundle, Executor, Finished, Job, JobResult};
 use serde::Deserialize;
 use std::collections::HashSet;
 use std::io::{BufRead, BufReader, Write};
-use std::os::unix::process::CommandExt;
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
 use std::time::Duration;
@@ -74,15 +73,7 @@ impl RayExecutor {
         let mut command = Command::new(install.python());
         // The driver dies with this process (killed or not), and Ray then stops its tasks:
         // nothing is left running on the cluster for a driver nobody reads.
-        // SAFETY: only prctl, async-signal-safe, between fork and exec.
-        unsafe {
-            command.pre_exec(|| {
-                if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGKILL) != 0 {
-                    return Err(std::io::Error::last_os_error());
-                }
-                Ok(())
-            });
-        }
+        libero_server::process::die_with_parent(&mut command);
         let mut driver = command
             .arg(&script)
             .args(["--address", address, "--bundle"])

@@ -48,7 +48,8 @@ pub struct MatchArgs {
     #[arg(long, value_name = "DIR", conflicts_with = "away_cmd")]
     pub away: Option<PathBuf>,
     /// Run an external away team instead, as `CMD <host> <port>` (the RoboCup start-script
-    /// convention); its process group is stopped at the end of each half.
+    /// convention, with `PLAYERS` and `TEAM` in its environment); its process group is
+    /// stopped at the end of each half.
     #[arg(long, value_name = "CMD")]
     pub away_cmd: Option<String>,
     #[arg(long, default_value = "Libero", alias = "left")]

@@ -71,10 +71,25 @@ impl TeamSetup {
             Kind::External(command) => {
                 println!("team {}: starting `{command} 127.0.0.1 {port}`", self.name);
                 use std::os::unix::process::CommandExt;
-                let child = Command::new("sh")
+                let mut command_line = Command::new("sh");
+                // A script that runs `$LIBERO` gets this binary unless told otherwise.
+                if std::env::var_os("LIBERO").is_none() {
+                    if let Ok(exe) = std::env::current_exe() {
+                        command_line.env("LIBERO", exe);
+                    }
+                }
+                command_line
                     .arg("-c")
-                    .arg(format!("{command} 127.0.0.1 {port}"))
-                    .process_group(0)
+                    // `exec`: the command takes the shell's place, so the death signal below
+                    // reaches the team (a script that `exec`s its agents, as ours do).
+                    .arg(format!("exec {command} 127.0.0.1 {port}"))
+                    // The start script's conventional knobs (tools/teams/standing/start.sh).
+                    .env("PLAYERS", players.to_string())
+                    .env("TEAM", &self.name)
+                    .process_group(0);
+                // It dies with this process even when that is killed (a cancelled series job).
+                libero_server::process::die_with_parent(&mut command_line);
+                let child = command_line
                     .spawn()
                     .map_err(|e| format!("cannot start the away team `{command}`: {e}"))?;
                 Running::External(child)

@@ -58,6 +58,10 @@ pub struct SeriesArgs {
     /// The difference worth finding: the better team's share of decisive matches.
     #[arg(long, default_value_t = 0.75)]
     pub effect: f64,
+    /// Once a match ends past this many minutes of wall time, start no more and stop those
+    /// still playing (the report holds what finished).
+    #[arg(long, value_name = "MINUTES")]
+    pub budget_min: Option<f64>,
     /// Play every match even once the sequential test has decided.
     #[arg(long)]
     pub no_early_stop: bool,
@@ -249,7 +253,10 @@ fn match_series(
                 short(verdict)
             ),
         );
-        if verdict.decided() && !args.no_early_stop {
+        let over_budget = args
+            .budget_min
+            .is_some_and(|m| began.elapsed().as_secs_f64() > m * 60.0);
+        if (verdict.decided() && !args.no_early_stop) || over_budget {
             Next::Stop
         } else {
             Next::Continue
@@ -280,7 +287,7 @@ fn match_series(
         goals_away: mean_with_interval(&away),
         sprt,
         verdict,
-        stopped_early: verdict.decided() && matches.len() < jobs.len() && !args.no_early_stop,
+        stopped_early: matches.len() < jobs.len(),
         sign_test_p: sign_test_p(wins, losses),
         wall_s: began.elapsed().as_secs_f64(),
         cpu_s_per_match: mean_with_interval(&cpu),
@@ -315,15 +322,7 @@ fn match_series(
         report.sign_test_p
     );
     println!("CPU per half {} s", show(&report.cpu_s_per_match));
-    for f in &report.failed {
-        println!("failed: {}", first_line(f));
-    }
-    write_report(&args.report, &report)?;
-    Ok(if report.failed.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    })
+    finish(&report.failed, &args.report, &report)
 }
 
 fn scenario_series(args: &SeriesArgs, executor: &mut dyn crate::fleet::Executor) -> CliResult {
@@ -387,15 +386,7 @@ fn scenario_series(args: &SeriesArgs, executor: &mut dyn crate::fleet::Executor)
         rate.high.unwrap_or(f64::NAN) * 100.0,
         report.wall_s
     );
-    for f in &report.failed {
-        println!("failed: {}", first_line(f));
-    }
-    write_report(&args.report, &report)?;
-    Ok(if report.failed.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    })
+    finish(&report.failed, &args.report, &report)
 }
 
 fn read_match(index: usize, result: &JobResult) -> Result<MatchResult, String> {
@@ -466,6 +457,19 @@ fn show(e: &Estimate) -> String {
 
 fn first_line(s: &str) -> &str {
     s.lines().next().unwrap_or(s)
+}
+
+/// The failures listed, the report written; failure if any job failed.
+fn finish(failed: &[String], path: &Option<PathBuf>, report: &impl Serialize) -> CliResult {
+    for f in failed {
+        println!("failed: {}", first_line(f));
+    }
+    write_report(path, report)?;
+    Ok(if failed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
 }
 
 fn write_report(path: &Option<PathBuf>, report: &impl Serialize) -> Result<(), String> {
