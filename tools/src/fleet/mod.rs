@@ -14,13 +14,11 @@ pub use bundle::Bundle;
 pub use local::LocalExecutor;
 pub use ray::RayExecutor;
 
-use serde::{Deserialize, Serialize};
-
 /// Stands for the report file in a job's arguments.
 pub const REPORT: &str = "{report}";
 
 /// One evaluation: `libero ARGV`, run from the bundle's folder.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone)]
 pub struct Job {
     pub argv: Vec<String>,
     /// Killed (and failed) after this much wall time.
@@ -28,7 +26,7 @@ pub struct Job {
 }
 
 /// A job that ran to the end.
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone)]
 pub struct Finished {
     /// What the command wrote to its report file.
     pub report: serde_json::Value,

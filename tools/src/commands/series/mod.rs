@@ -265,6 +265,7 @@ fn match_series(
     progress.finish();
     matches.sort_by_key(|m| m.index);
     let (wins, draws, losses) = outcome_counts(&matches);
+    let failed_count = failed.len();
     let diff: Vec<f64> = matches
         .iter()
         .map(|m| m.score[0] as f64 - m.score[1] as f64)
@@ -287,7 +288,7 @@ fn match_series(
         goals_away: mean_with_interval(&away),
         sprt,
         verdict,
-        stopped_early: matches.len() < jobs.len(),
+        stopped_early: matches.len() + failed_count < jobs.len(),
         sign_test_p: sign_test_p(wins, losses),
         wall_s: began.elapsed().as_secs_f64(),
         cpu_s_per_match: mean_with_interval(&cpu),
