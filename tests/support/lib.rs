@@ -125,7 +125,11 @@ pub fn copy_of_shipped_data(name: &str) -> Vec<std::path::PathBuf> {
         std::fs::create_dir_all(&to).unwrap();
         for entry in std::fs::read_dir(root.join(sub)).unwrap() {
             let from = entry.unwrap().path();
-            std::fs::copy(&from, to.join(from.file_name().unwrap())).unwrap();
+            // Files only: a subfolder with its own team file (formations/simspark/) is another
+            // team's set.
+            if from.is_file() {
+                std::fs::copy(&from, to.join(from.file_name().unwrap())).unwrap();
+            }
         }
         dirs.push(to);
     }

@@ -12,7 +12,9 @@ fn shipped_files(root: &Path) -> BTreeMap<PathBuf, String> {
     for dir in ["behaviors", "formations"] {
         for entry in std::fs::read_dir(root.join(dir)).unwrap() {
             let path = entry.unwrap().path();
-            files.insert(path.clone(), std::fs::read_to_string(&path).unwrap());
+            if path.is_file() {
+                files.insert(path.clone(), std::fs::read_to_string(&path).unwrap());
+            }
         }
     }
     files

@@ -90,6 +90,16 @@ pub fn default_data_dirs() -> Vec<PathBuf> {
     vec![root.join("behaviors"), root.join("formations")]
 }
 
+/// The repository's formations for a server's field: `formations/` on rcssservermj (7 a side),
+/// `formations/simspark/` on SimSpark (11 a side, its own team file). The trees are the same.
+pub fn default_formations_dir(server: libero_model::ServerKind) -> PathBuf {
+    let formations = repository_root().join("formations");
+    match server {
+        libero_model::ServerKind::RcssMj => formations,
+        libero_model::ServerKind::SimSpark => formations.join("simspark"),
+    }
+}
+
 /// Load the behavior and strategy files of `dirs`; with `watch`, keep watching them and swap in
 /// every good edit while the team plays.
 pub fn load_library(dirs: &[PathBuf], watch: bool) -> Result<LibrarySource, BuildError> {

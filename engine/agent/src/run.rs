@@ -29,9 +29,11 @@ pub struct AgentConfig {
     /// server runs, so the retries back off from `refusal_backoff` doubling up to 30 s.
     pub max_refusals: u32,
     pub refusal_backoff: Duration,
-    /// Pause between connecting and the first message. rcsssmj 0.2.1 crashes when an agent
-    /// is activated before the simulation's first step, which is what happens when agents
-    /// retrying in a loop reach a server the moment it starts listening.
+    /// Pause between connecting and the first message (rcssservermj only). rcsssmj 0.2.1
+    /// crashes when an agent is activated before the simulation's first step, which is what
+    /// happens when agents retrying in a loop reach a server the moment it starts listening.
+    /// SimSpark gets its `scene` at once: a connection without a body stalls a sync-mode
+    /// SimSpark for every agent after 5 cycles (simspark.md §1.4).
     pub greeting_delay: Duration,
     /// Agents sharing a gate join one at a time (from connecting to the first percept), also
     /// when they reconnect together after a stall: simultaneous joins stall the server.
@@ -103,6 +105,17 @@ pub fn run_agent(
             .join_gate
             .as_ref()
             .map(|g| g.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner()));
+        // The greeting is ready before the connection exists: a sync-mode SimSpark waits for
+        // a connection without a body after 5 of its cycles (a few ms in fast mode), and the
+        // `scene` that would give it one is then never read.
+        player.reset_connection();
+        let hello = match player.greeting() {
+            Ok(hello) => hello,
+            Err(e) => {
+                log::error!("agent {unum}: cannot greet the server: {e}");
+                return Ok(());
+            }
+        };
         let mut conn = match Connection::open(&config.host, config.port) {
             Ok(c) => c,
             Err(e) => {
@@ -132,21 +145,14 @@ pub fn run_agent(
             }
         };
         failures = 0;
-        AgentStats::bump(&player.stats().connections);
-        player.reset_connection();
-        sleep_unless_shutdown(config.greeting_delay, shutdown);
-        match player.greeting() {
-            Ok(hello) => {
-                if let Err(e) = conn.send(&hello) {
-                    log::warn!("agent {unum}: greeting not sent: {e}");
-                    continue;
-                }
-            }
-            Err(e) => {
-                log::error!("agent {unum}: cannot greet the server: {e}");
-                return Ok(());
-            }
+        if player.model.server == libero_model::ServerKind::RcssMj {
+            sleep_unless_shutdown(config.greeting_delay, shutdown);
         }
+        if let Err(e) = conn.send(&hello) {
+            log::warn!("agent {unum}: greeting not sent: {e}");
+            continue;
+        }
+        AgentStats::bump(&player.stats().connections);
         let mut heard_at = Instant::now();
         let mut answered = 0u64;
         let mut silence_reported = false;

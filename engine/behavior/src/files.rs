@@ -104,7 +104,12 @@ pub(crate) fn strip_bom_owned(mut text: String) -> String {
     text
 }
 
-/// `.ron` files under the given paths (folders searched recursively), sorted so results do not
+/// A file that makes its folder a team of its own (`formations/simspark/` beside
+/// `formations/`): a walk from above does not enter that folder.
+pub const TEAM_FILE: &str = "team.ron";
+
+/// `.ron` files under the given paths (folders searched recursively, but not into a subfolder
+/// holding its own [`TEAM_FILE`]: that is another team's set), sorted so results do not
 /// depend on directory order. Each directory is entered once, by its real path: a link back up
 /// the tree (`self -> .`) or a loop of links adds nothing. Links that resolve outside the folder
 /// they sit in, or not at all, are skipped with a warning. A file reached by two paths is
@@ -186,6 +191,9 @@ impl Walk<'_> {
                 kind.is_dir()
             };
             if is_dir {
+                if path.join(TEAM_FILE).is_file() {
+                    continue;
+                }
                 let real = path.canonicalize().unwrap_or_else(|_| path.clone());
                 if self.visited.insert(real) {
                     self.dir(&path);
@@ -271,6 +279,35 @@ mod tests {
     }
 
     #[cfg(unix)]
+    #[test]
+    fn a_subfolder_with_its_own_team_file_is_another_team() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path();
+        std::fs::create_dir_all(root.join("nao")).unwrap();
+        std::fs::create_dir_all(root.join("more")).unwrap();
+        for file in [
+            "team.ron",
+            "attack.ron",
+            "nao/team.ron",
+            "nao/attack.ron",
+            "more/x.ron",
+        ] {
+            std::fs::write(root.join(file), "Team()").unwrap();
+        }
+        let mut report = Report::default();
+        let names = |files: Vec<PathBuf>| -> Vec<String> {
+            files
+                .iter()
+                .map(|f| f.strip_prefix(root).unwrap().display().to_string())
+                .collect()
+        };
+        let files = ron_files(&[root.to_path_buf()], &mut report);
+        assert_eq!(names(files), ["attack.ron", "more/x.ron", "team.ron"]);
+        // Named itself, the team's folder is walked.
+        let files = ron_files(&[root.join("nao")], &mut report);
+        assert_eq!(names(files), ["nao/attack.ron", "nao/team.ron"]);
+    }
+
     #[test]
     fn links_are_followed_once_and_never_out_of_the_tree() {
         use std::os::unix::fs::symlink;

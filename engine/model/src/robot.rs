@@ -15,6 +15,20 @@ pub enum ServerKind {
     SimSpark,
 }
 
+impl std::str::FromStr for ServerKind {
+    type Err = String;
+    /// `rcssservermj` (also `mj`) or `simspark` (also `rcssserver3d`), as the command line names them.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.to_ascii_lowercase().as_str() {
+            "rcssservermj" | "mj" | "rcsssmj" => Ok(ServerKind::RcssMj),
+            "simspark" | "rcssserver3d" => Ok(ServerKind::SimSpark),
+            other => Err(format!(
+                "unknown server `{other}`: use `rcssservermj` or `simspark`"
+            )),
+        }
+    }
+}
+
 /// Position and damping gains for a joint motor (rcssservermj `kp`, `kd`).
 ///
 /// SimSpark has no motor gains (velocity effectors only); there `kp` is the dimensionless gain `g`

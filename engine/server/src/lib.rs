@@ -1,15 +1,20 @@
-//! A real rcssservermj on this machine, installed and run by the project itself.
+//! The real servers on this machine, installed and run by the project itself.
 //!
-//! [`venv`] creates a git-ignored virtualenv and pip-installs the pinned server there on first
-//! use; [`process`] starts it headless on free loopback ports and stops exactly the process it
+//! [`venv`] creates a git-ignored virtualenv and pip-installs the pinned rcssservermj there on
+//! first use; [`simspark`] builds SimSpark rcssserver3d from source into a per-user cache;
+//! [`process`] starts either headless on free loopback ports and stops exactly the process it
 //! started; [`monitor`] speaks the monitor port (kick-off, ball placement, game state).
 
 pub mod monitor;
 pub mod process;
+pub mod simspark;
+pub mod simspark_scene;
 pub mod venv;
 
 pub use monitor::{GameSnapshot, Monitor};
-pub use process::{Rules, ServerOptions, ServerProcess};
+pub use process::{Rules, ServerKind, ServerOptions, ServerProcess};
+pub use simspark::{ensure_simspark_installed, SimSparkInstall};
+pub use simspark_scene::RobotTruth;
 pub use venv::{
     ensure_installed, ensure_ray_installed, Installation, RAY_VERSION, RCSSSMJ_VERSION,
 };
@@ -37,6 +42,8 @@ pub enum ServerError {
     },
     #[error("the server did not report ready within {0} s; see its log {1}")]
     StartTimeout(u64, String),
+    #[error("{0}")]
+    SimSpark(String),
     #[error("{0}: {1}")]
     Io(String, std::io::Error),
 }

@@ -1,5 +1,7 @@
 //! The monitor port: game state out, referee-like commands in.
 
+use crate::simspark_scene::{RobotTruth, SceneTracker};
+use libero_model::ServerKind;
 use libero_protocol::frame::{encode_frame, FrameReader};
 use libero_protocol::sexp;
 use std::io::Write;
@@ -48,6 +50,9 @@ pub struct GameSnapshot {
     /// Ball centre [m], world frame, from the scene graph (ground truth; `None` before the first
     /// full frame). Diff frames only carry moves of more than 5 mm, so this is that exact.
     pub ball: Option<[f64; 3]>,
+    /// SimSpark only: every robot's torso (ground truth; empty on rcssservermj, whose agents
+    /// get their own ground truth in the percept).
+    pub robots: Vec<RobotTruth>,
 }
 
 /// A monitor connection. A thread drains the stream (the server blocks on a full socket) and
@@ -58,7 +63,13 @@ pub struct Monitor {
 }
 
 impl Monitor {
+    /// An rcssservermj monitor connection.
     pub fn connect(port: u16) -> std::io::Result<Self> {
+        Self::connect_to(ServerKind::RcssMj, port)
+    }
+
+    /// A monitor connection to either server (their frames differ; the commands are the same).
+    pub fn connect_to(server: ServerKind, port: u16) -> std::io::Result<Self> {
         let stream = TcpStream::connect(("127.0.0.1", port))?;
         stream.set_nodelay(true)?;
         let reader = stream.try_clone()?;
@@ -68,8 +79,23 @@ impl Monitor {
             .name("monitor-reader".into())
             .spawn(move || {
                 let mut frames = FrameReader::with_limit(reader, 64 << 20);
+                let mut modes = SimSparkModes::default();
+                let mut scene = SceneTracker::default();
                 while let Ok(frame) = frames.read_frame() {
                     if let Ok(text) = std::str::from_utf8(frame) {
+                        if server == ServerKind::SimSpark {
+                            let moved = scene.update(text);
+                            if let Ok(mut s) = shared.lock() {
+                                if update_simspark_state(text, &mut modes, &mut s) {
+                                    s.frames += 1;
+                                }
+                                if moved {
+                                    s.ball = scene.ball().or(s.ball);
+                                    s.robots = scene.robots();
+                                }
+                            }
+                            continue;
+                        }
                         if let Some(mut snapshot) = parse_game_state(text) {
                             if let Ok(mut s) = shared.lock() {
                                 snapshot.frames = s.frames + 1;
@@ -158,7 +184,72 @@ pub fn parse_game_state(frame: &str) -> Option<GameSnapshot> {
             .map_or_else(|| format!("mode{mode}"), |m| m.to_string()),
         frames: 0,
         ball: None,
+        robots: Vec::new(),
     })
+}
+
+/// SimSpark's play-mode names by monitor index: the header's `play_modes` list, else the
+/// 0.7.3 table (simspark.md §5.1).
+#[derive(Debug, Clone)]
+pub struct SimSparkModes(Vec<String>);
+
+impl Default for SimSparkModes {
+    fn default() -> Self {
+        let mut names: Vec<String> = PLAY_MODES[..19].iter().map(|m| m.to_string()).collect();
+        names.extend(["pass_left".to_string(), "pass_right".to_string()]);
+        Self(names)
+    }
+}
+
+/// Apply one SimSpark monitor frame's game-state list to `state`: the header
+/// `((FieldLength 30)…(play_modes …)(time 0)…(play_mode 0))(RSG 0 1)(…)` or an update
+/// `((time T)[changed items])(RDS 0 1)(…)`, which names only what changed. Returns whether the
+/// frame had one.
+pub fn update_simspark_state(
+    frame: &str,
+    modes: &mut SimSparkModes,
+    state: &mut GameSnapshot,
+) -> bool {
+    let Some(Ok(first)) = sexp::top_level(frame).next() else {
+        return false;
+    };
+    let Some(items) = first.as_list() else {
+        return false;
+    };
+    let mut any = false;
+    for item in items.iter().filter_map(|c| c.as_list()) {
+        let number = || item.tail_numbers::<1>().map(|[v]| v);
+        match item.head() {
+            Some("play_modes") => {
+                modes.0 = item
+                    .tail()
+                    .filter_map(|c| c.as_atom())
+                    .map(str::to_string)
+                    .collect();
+            }
+            Some("time") => state.time = number().unwrap_or(state.time),
+            Some("half") => state.half = number().map_or(state.half, |h| h as u32),
+            Some("score_left") => {
+                state.score_left = number().map_or(state.score_left, |v| v as u32)
+            }
+            Some("score_right") => {
+                state.score_right = number().map_or(state.score_right, |v| v as u32)
+            }
+            Some("play_mode") => {
+                if let Some(index) = number() {
+                    let index = index as usize;
+                    state.play_mode = modes
+                        .0
+                        .get(index)
+                        .cloned()
+                        .unwrap_or_else(|| format!("mode{index}"));
+                }
+            }
+            _ => continue,
+        }
+        any = true;
+    }
+    any
 }
 
 /// The ball's position from a frame's scene graph `((sg 1 0)full|diff (nd …))`, when the frame
@@ -189,6 +280,43 @@ fn first_node(list: sexp::List<'_>) -> Option<sexp::List<'_>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn simspark_game_state_from_the_header_and_from_updates() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../../shared/samples/simspark/monitor_first.txt"
+        );
+        let sample = std::fs::read_to_string(path).unwrap();
+        // The sample file heads each message with a `### monitor message` line.
+        let header = sample
+            .lines()
+            .find(|l| l.starts_with("((FieldLength"))
+            .unwrap();
+        let mut modes = SimSparkModes::default();
+        let mut state = GameSnapshot::default();
+        assert!(update_simspark_state(header, &mut modes, &mut state));
+        assert_eq!(state.play_mode, "BeforeKickOff");
+        assert_eq!((state.time, state.half), (0.0, 1));
+        assert_eq!(modes.0.len(), 21);
+        // Updates carry only what changed: the rest stays.
+        let update = "((time 12.34)(play_mode 3)(score_left 1))(RDS 0 1)((nd))";
+        assert!(update_simspark_state(update, &mut modes, &mut state));
+        assert_eq!(state.time, 12.34);
+        assert_eq!(state.play_mode, "PlayOn");
+        assert_eq!((state.score_left, state.score_right, state.half), (1, 0, 1));
+        assert!(update_simspark_state(
+            "((time 13))(RDS 0 1)((nd))",
+            &mut modes,
+            &mut state
+        ));
+        assert_eq!(state.play_mode, "PlayOn");
+        assert!(!update_simspark_state("garbage (", &mut modes, &mut state));
+        // A header naming the modes differently is believed over the built-in table.
+        let renamed = "((play_modes A B C D)(play_mode 3))(RSG 0 1)()";
+        assert!(update_simspark_state(renamed, &mut modes, &mut state));
+        assert_eq!(state.play_mode, "D");
+    }
 
     #[test]
     fn game_state_from_a_real_monitor_frame() {

@@ -1,8 +1,10 @@
-//! Starting and stopping one rcssservermj process.
+//! Starting and stopping one server process (rcssservermj or SimSpark rcssserver3d).
 
 use crate::monitor::Monitor;
+use crate::simspark::{ensure_simspark_installed, run_files, RunSettings, SimSparkInstall};
 use crate::venv::{ensure_installed, Installation};
 use crate::ServerError;
+pub use libero_model::ServerKind;
 use std::io::Read;
 use std::net::TcpListener;
 use std::path::PathBuf;
@@ -57,6 +59,8 @@ impl std::str::FromStr for Rules {
 /// How to run the server.
 #[derive(Debug, Clone)]
 pub struct ServerOptions {
+    /// Which server: rcssservermj (T1, the league's) or SimSpark (NAO, the thesis's).
+    pub server: ServerKind,
     /// Wait for every agent's answer each cycle.
     pub sync: bool,
     /// Keep 20 ms cycles; `false` runs as fast as the agents answer (and implies sync).
@@ -79,6 +83,7 @@ impl Default for ServerOptions {
     /// The fast mode used by tests and matches: `--sync --no-realtime`.
     fn default() -> Self {
         Self {
+            server: ServerKind::RcssMj,
             sync: true,
             realtime: false,
             rules: Rules::Ssim,
@@ -90,11 +95,27 @@ impl Default for ServerOptions {
     }
 }
 
+/// What runs: the rcssservermj virtualenv or a SimSpark build.
+#[derive(Debug, Clone)]
+enum Program {
+    RcssMj(Installation),
+    SimSpark(SimSparkInstall),
+}
+
+impl Program {
+    fn path(&self) -> PathBuf {
+        match self {
+            Program::RcssMj(install) => install.server_program(),
+            Program::SimSpark(install) => install.server_program(),
+        }
+    }
+}
+
 /// A running server that this process started. Dropping it stops the server.
 pub struct ServerProcess {
     child: Option<Child>,
     monitor: Option<Monitor>,
-    install: Installation,
+    program: Program,
     options: ServerOptions,
     pub agent_port: u16,
     pub monitor_port: u16,
@@ -106,7 +127,10 @@ const START_TIMEOUT: Duration = Duration::from_secs(60);
 impl ServerProcess {
     /// Install the server if needed and start it; returns once it accepts connections.
     pub fn start(options: ServerOptions) -> Result<Self, ServerError> {
-        let install = ensure_installed()?;
+        let program = match options.server {
+            ServerKind::RcssMj => Program::RcssMj(ensure_installed()?),
+            ServerKind::SimSpark => Program::SimSpark(ensure_simspark_installed(None)?),
+        };
         let (agent_port, monitor_port) = choose_ports(options.agent_port, options.monitor_port)?;
         let work_dir = match &options.work_dir {
             Some(dir) => dir.clone(),
@@ -117,7 +141,7 @@ impl ServerProcess {
         let mut server = Self {
             child: None,
             monitor: None,
-            install,
+            program,
             options,
             agent_port,
             monitor_port,
@@ -155,31 +179,35 @@ impl ServerProcess {
         let err = log
             .try_clone()
             .map_err(|e| ServerError::Io(log_path.display().to_string(), e))?;
-        let mut cmd = Command::new(self.install.server_program());
+        let mut cmd = Command::new(self.program.path());
         cmd.current_dir(&self.work_dir)
-            .args(["--no-render", "--host", "127.0.0.1"])
-            .args(["--aport", &self.agent_port.to_string()])
-            .args(["--mport", &self.monitor_port.to_string()])
-            .args(["--rules", self.options.rules.as_arg()])
-            .arg(if self.options.realtime {
-                "--realtime"
-            } else {
-                "--no-realtime"
-            })
-            .env("PYTHONUNBUFFERED", "1")
             .stdin(Stdio::null())
             .stdout(log)
             .stderr(err);
-        if self.options.sync {
-            cmd.arg("--sync");
-        }
-        if let Some(field) = self.options.field {
-            cmd.args(["--field", field]);
+        match &self.program {
+            Program::RcssMj(_) => self.rcssmj_arguments(&mut cmd),
+            Program::SimSpark(install) => {
+                run_files(
+                    install,
+                    &self.work_dir,
+                    RunSettings {
+                        agent_port: self.agent_port,
+                        monitor_port: self.monitor_port,
+                        sync: self.options.sync || !self.options.realtime,
+                        realtime: self.options.realtime,
+                    },
+                )?;
+                // The server reads and writes `$HOME/.simspark`: the run folder, never the
+                // user's home.
+                cmd.env("HOME", &self.work_dir)
+                    .env("LD_LIBRARY_PATH", install.library_path());
+            }
         }
         let child = spawn_tied_to_this_process(cmd)
-            .map_err(|e| ServerError::Io(self.install.server_program().display().to_string(), e))?;
+            .map_err(|e| ServerError::Io(self.program.path().display().to_string(), e))?;
         log::info!(
-            "rcssservermj pid {} on 127.0.0.1 agent port {} monitor port {} (log {})",
+            "{} pid {} on 127.0.0.1 agent port {} monitor port {} (log {})",
+            self.name(),
             child.id(),
             self.agent_port,
             self.monitor_port,
@@ -190,11 +218,45 @@ impl ServerProcess {
         self.wait_ready()
     }
 
+    /// The server's name for messages.
+    pub fn name(&self) -> &'static str {
+        match self.program {
+            Program::RcssMj(_) => "rcssservermj",
+            Program::SimSpark(_) => "rcssserver3d",
+        }
+    }
+
+    /// Which server this is.
+    pub fn kind(&self) -> ServerKind {
+        self.options.server
+    }
+
+    fn rcssmj_arguments(&self, cmd: &mut Command) {
+        cmd.args(["--no-render", "--host", "127.0.0.1"])
+            .args(["--aport", &self.agent_port.to_string()])
+            .args(["--mport", &self.monitor_port.to_string()])
+            .args(["--rules", self.options.rules.as_arg()])
+            .arg(if self.options.realtime {
+                "--realtime"
+            } else {
+                "--no-realtime"
+            })
+            .env("PYTHONUNBUFFERED", "1");
+        if self.options.sync {
+            cmd.arg("--sync");
+        }
+        if let Some(field) = self.options.field {
+            cmd.args(["--field", field]);
+        }
+    }
+
     fn wait_ready(&mut self) -> Result<(), ServerError> {
         let start = Instant::now();
         loop {
             let log = read_text(&self.log_path());
-            if log.contains("Starting server... DONE") {
+            let simspark = matches!(self.program, Program::SimSpark(_));
+            // SimSpark logs nothing at start-up: its monitor's first frame says it is up.
+            if simspark || log.contains("Starting server... DONE") {
                 return self.wait_first_step(start);
             }
             if let Some(child) = self.child.as_mut() {
@@ -230,12 +292,19 @@ impl ServerProcess {
     fn wait_first_step(&mut self, start: Instant) -> Result<(), ServerError> {
         while start.elapsed() < START_TIMEOUT {
             if self.monitor.is_none() {
-                self.monitor = Monitor::connect(self.monitor_port).ok();
+                self.monitor = Monitor::connect_to(self.options.server, self.monitor_port).ok();
             }
             if let Some(monitor) = &self.monitor {
                 if monitor.snapshot().frames > 0 {
                     return Ok(());
                 }
+            }
+            if matches!(self.program, Program::SimSpark(_))
+                && read_text(&self.log_path()).contains("Address already in use")
+            {
+                // SimSpark keeps running without the socket it could not bind.
+                self.kill();
+                return Err(ServerError::PortTaken(self.agent_port));
             }
             if !self.is_running() {
                 break;

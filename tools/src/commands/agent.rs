@@ -1,6 +1,6 @@
 //! `libero agent`: one player.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs, LogArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, robot_for_unum, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{run_agent, AgentConfig};
@@ -17,7 +17,8 @@ pub struct AgentArgs {
     pub team: String,
     #[arg(long, short, default_value_t = 1)]
     pub unum: u32,
-    /// Built-in robot model (T1, K1, NAO types as nao_type0…4).
+    /// Built-in robot model: T1, K1, or NAO (the SimSpark type the team rules give this
+    /// uniform number) or one NAO type as nao_type0…4.
     #[arg(long, default_value = "T1")]
     pub robot: String,
     /// A robot model RON file instead of a built-in one.
@@ -32,8 +33,11 @@ pub struct AgentArgs {
 }
 
 pub fn run(args: AgentArgs) -> CliResult {
-    let model = load_robot(&args.robot, args.robot_file.as_ref())?;
-    let source = args.data.source()?;
+    let model = load_robot(
+        &robot_for_unum(&args.robot, args.unum),
+        args.robot_file.as_ref(),
+    )?;
+    let source = args.data.source_for(model.server)?;
     let skills = args.data.skills(&model)?;
     let mut player = build_player(&model, &args.team, args.unum, &source, &skills)?;
     args.log.attach(&mut player, &args.team, args.unum, false)?;

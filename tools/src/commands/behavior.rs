@@ -63,9 +63,56 @@ fn check(paths: &[PathBuf]) -> Report {
     if !data.is_empty() {
         report.extend(validate_paths(&data));
     }
+    // A subfolder with its own team file (formations/simspark/) is another team's set: checked
+    // with the other paths given (the trees) in place of the folder it sits in. Only its own
+    // files' diagnostics are new; the trees' were reported above.
+    for (outer, team) in team_sets(&data) {
+        let mut set: Vec<PathBuf> = data.iter().filter(|p| **p != outer).cloned().collect();
+        set.push(team.clone());
+        let team_report = validate_paths(&set);
+        report
+            .diagnostics
+            .extend(team_report.diagnostics.into_iter().filter(|d| {
+                d.location
+                    .as_ref()
+                    .is_some_and(|l| l.file.path.starts_with(&team))
+            }));
+    }
     report.extend(libero_scenario::validate_files(&scenarios));
     report.sort();
     report
+}
+
+/// (folder given, team subfolder in it) for every subfolder below a given folder that holds
+/// its own team file.
+fn team_sets(paths: &[PathBuf]) -> Vec<(PathBuf, PathBuf)> {
+    fn walk(dir: &std::path::Path, depth: usize, out: &mut Vec<PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        let mut dirs: Vec<PathBuf> = entries
+            .flatten()
+            .filter(|e| e.file_type().is_ok_and(|t| t.is_dir()))
+            .map(|e| e.path())
+            .collect();
+        dirs.sort();
+        for sub in dirs {
+            if sub.join(libero_behavior::files::TEAM_FILE).is_file() {
+                out.push(sub.clone());
+            }
+            // Real folders only, a few levels: data folders are shallow.
+            if depth < 4 {
+                walk(&sub, depth + 1, out);
+            }
+        }
+    }
+    let mut sets = Vec::new();
+    for outer in paths.iter().filter(|p| p.is_dir()) {
+        let mut found = Vec::new();
+        walk(outer, 0, &mut found);
+        sets.extend(found.into_iter().map(|team| (outer.clone(), team)));
+    }
+    sets
 }
 
 /// Scenario files apart from the tree and strategy files they may sit beside. A folder without

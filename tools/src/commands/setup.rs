@@ -29,6 +29,19 @@ pub fn proc_status_mb(field: &str) -> Option<f64> {
     Some(kb / 1024.0)
 }
 
+/// The built-in model a player with `unum` runs when the command line names `robot`: `NAO`
+/// stands for the SimSpark type the team rules give that number (goalkeeper and most field
+/// players type 0, the rest spread so a full team is legal); any other name is itself.
+pub fn robot_for_unum(robot: &str, unum: u32) -> String {
+    if robot.eq_ignore_ascii_case("nao") {
+        let types = libero_agent::simspark_team_types(11);
+        let index = (unum.max(1) as usize - 1) % types.len();
+        format!("nao_type{}", types[index])
+    } else {
+        robot.to_string()
+    }
+}
+
 /// A robot model by built-in name or from a RON file.
 pub fn load_robot(
     name: &str,
@@ -84,7 +97,19 @@ impl DataArgs {
 
     /// Load (and, unless `--no-watch`, watch) the files; every error is reported at once.
     pub fn source(&self) -> Result<LibrarySource, Box<dyn std::error::Error>> {
-        let [behaviors, formations] = self.folders();
+        self.source_for(libero_model::ServerKind::RcssMj)
+    }
+
+    /// [`Self::source`] for players on `server`: without `--formations`, that server's field's
+    /// formations.
+    pub fn source_for(
+        &self,
+        server: libero_model::ServerKind,
+    ) -> Result<LibrarySource, Box<dyn std::error::Error>> {
+        let [behaviors, mut formations] = self.folders();
+        if self.formations.is_none() {
+            formations = libero_agent::build::default_formations_dir(server);
+        }
         Ok(libero_agent::build::load_library(
             &[behaviors, formations],
             !self.no_watch,

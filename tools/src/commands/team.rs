@@ -1,9 +1,9 @@
 //! `libero team`: N players in one process.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, DataArgs, LogArgs};
+use super::setup::{build_player, ctrl_c_flag, load_robot, robot_for_unum, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
-use libero_agent::{simspark_team_types, AgentConfig, Team};
+use libero_agent::{AgentConfig, Team};
 use libero_model::ServerKind;
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
@@ -32,7 +32,8 @@ pub struct TeamArgs {
 
 pub fn run(args: TeamArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
-    let source = args.data.source()?;
+    let server = load_robot(&robot_for_unum(&args.robot, 1), None)?.server;
+    let source = args.data.source_for(server)?;
     let view =
         super::view::LiveView::start(&args.view, super::view::field_of(&source), &args.data)?;
     if let Some(view) = &view {
@@ -43,13 +44,8 @@ pub fn run(args: TeamArgs) -> CliResult {
     // every NAO type shares nao.ron.
     let mut skills = None;
     let simspark = args.robot.eq_ignore_ascii_case("nao");
-    let types = simspark_team_types(args.players as usize);
     for unum in 1..=args.players {
-        let name = if simspark {
-            format!("nao_type{}", types[unum as usize - 1])
-        } else {
-            args.robot.clone()
-        };
+        let name = robot_for_unum(&args.robot, unum);
         let model = load_robot(&name, None)?;
         if simspark && model.server != ServerKind::SimSpark {
             return Err(format!("{name} is not a SimSpark robot").into());

@@ -1,0 +1,161 @@
+//! The thesis's server for real: SimSpark rcssserver3d, built by the project from source (once
+//! per machine, into the per-user cache) and run headless in sync mode, with two full NAO
+//! teams of Libero agents running the shipped trees and `formations/simspark/`. Ground truth
+//! comes from the server's monitor stream (the scene graph), never from the agents.
+
+use libero_agent::{build, simspark_team_types, AgentConfig, AgentStats, SkillSource, Team};
+use libero_model::RobotModel;
+use libero_server::{RobotTruth, ServerKind, ServerOptions, ServerProcess};
+use libero_tests::{live_turn, sim_time, wait_sim_seconds, wait_until};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+fn simspark_server() -> ServerProcess {
+    ServerProcess::start(ServerOptions {
+        server: ServerKind::SimSpark,
+        ..ServerOptions::default()
+    })
+    .expect("building (first use) and starting SimSpark")
+}
+
+/// A full NAO team (types by the team rules) running the shipped trees on SimSpark's
+/// formations, joined one by one.
+fn nao_team(port: u16, team: &str, n: u32) -> (Team, Arc<AtomicBool>) {
+    let dirs = [
+        build::default_data_dirs()[0].clone(),
+        build::default_formations_dir(ServerKind::SimSpark),
+    ];
+    let source = build::load_library(&dirs, false).expect("the shipped SimSpark files load");
+    let types = simspark_team_types(n as usize);
+    let players = (1..=n)
+        .map(|unum| {
+            let name = format!("nao_type{}", types[unum as usize - 1]);
+            let model = Arc::new(RobotModel::builtin(&name).unwrap());
+            let params = build::default_skill_params_file(&model);
+            let skills = SkillSource::from_file(&params, &model, false).unwrap();
+            build::tree_player(&model, team, unum, &source, &skills).unwrap()
+        })
+        .collect();
+    let shutdown = Arc::new(AtomicBool::new(false));
+    let config = AgentConfig::new("127.0.0.1", port);
+    (
+        Team::start(&config, players, Arc::clone(&shutdown)),
+        shutdown,
+    )
+}
+
+/// Down: the torso below 0.22 m or tipped more than 60° from upright (a standing NAO's torso
+/// centre is at ~0.35 m).
+fn is_down(robot: &RobotTruth) -> bool {
+    robot.torso[2] < 0.22 || robot.up < 0.5
+}
+
+fn describe(robots: &[RobotTruth]) -> String {
+    let mut lines: Vec<String> = robots
+        .iter()
+        .map(|r| {
+            format!(
+                "{} {:>2}: ({:6.2}, {:6.2}, {:4.2}) up {:4.2}",
+                if r.left { "L" } else { "R" },
+                r.unum,
+                r.torso[0],
+                r.torso[1],
+                r.torso[2],
+                r.up
+            )
+        })
+        .collect();
+    lines.sort();
+    lines.join("\n")
+}
+
+#[test]
+fn twenty_two_naos_join_stand_and_rejoin_a_restarted_server() {
+    let _turn = live_turn();
+    let mut server = simspark_server();
+    let port = server.agent_port;
+    let started = Instant::now();
+    let (home, stop_home) = nao_team(port, "Libero", 11);
+    let (away, stop_away) = nao_team(port, "Rival", 11);
+    let all_stats = || home.stats.iter().chain(&away.stats).map(|(_, s)| s);
+    let on_field = |server: &mut ServerProcess| server.monitor().snapshot().robots;
+    let joined = wait_until(Duration::from_secs(60), || {
+        on_field(&mut server).len() == 22
+    });
+    let join_wall = started.elapsed();
+    assert!(
+        joined.is_some(),
+        "not all 22 on the field within 60 s of wall time ({join_wall:?}):\n{}",
+        describe(&on_field(&mut server))
+    );
+    eprintln!("22 NAOs on the field after {join_wall:?} of wall time");
+    assert!(
+        join_wall < Duration::from_secs(60),
+        "22 agents took {join_wall:?} of wall time to join"
+    );
+
+    // 30 s of simulated time standing in BeforeKickOff (each beamed to its formation place).
+    let first = &home.stats[0].1;
+    wait_sim_seconds(first, 2.0);
+    let stand_from = sim_time(first);
+    let mut down_seen: Vec<(f64, RobotTruth)> = Vec::new();
+    let deadline = Instant::now() + Duration::from_secs(240);
+    while sim_time(first) < stand_from + 30.0 {
+        assert!(Instant::now() < deadline, "simulated time stalled");
+        let robots = on_field(&mut server);
+        for robot in robots.iter().filter(|r| is_down(r)) {
+            if !down_seen
+                .iter()
+                .any(|(_, r)| r.left == robot.left && r.unum == robot.unum)
+            {
+                down_seen.push((sim_time(first), *robot));
+            }
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let robots = on_field(&mut server);
+    eprintln!(
+        "after 30 s of standing (sim {:.1} s):\n{}",
+        sim_time(first),
+        describe(&robots)
+    );
+    assert_eq!(robots.len(), 22, "{}", describe(&robots));
+    assert!(down_seen.is_empty(), "robots went down: {down_seen:?}");
+    for (i, stats) in all_stats().enumerate() {
+        assert_eq!(
+            AgentStats::get(&stats.missed_cycles),
+            0,
+            "agent {i} missed cycles"
+        );
+        assert_eq!(
+            AgentStats::get(&stats.percepts),
+            AgentStats::get(&stats.replies),
+            "agent {i} left a percept unanswered"
+        );
+    }
+
+    // The server restarted under them: every agent connects again and all 22 are back.
+    server.restart().expect("restarting SimSpark");
+    let restarted = Instant::now();
+    let back = wait_until(Duration::from_secs(90), || {
+        on_field(&mut server).len() == 22
+            && all_stats().all(|s| AgentStats::get(&s.connections) >= 2)
+    });
+    eprintln!("after the restart: back in {:?}", restarted.elapsed());
+    assert!(
+        back.is_some(),
+        "not all 22 back within 90 s of the restart:\n{}",
+        describe(&on_field(&mut server))
+    );
+    let after = sim_time(first);
+    wait_sim_seconds(first, 2.0);
+    assert!(
+        sim_time(first) > after,
+        "the restarted server does not step"
+    );
+    stop_home.store(true, Ordering::Relaxed);
+    stop_away.store(true, Ordering::Relaxed);
+    home.join();
+    away.join();
+}
