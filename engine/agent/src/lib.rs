@@ -19,7 +19,7 @@ pub mod team;
 pub mod view;
 
 pub use decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
-pub use player::Player;
+pub use player::{Player, TruthFeed};
 pub use run::{run_agent, AgentConfig, AgentError, JoinGate};
 pub use skill_source::{LiveSkillParams, ParamsEvent, SkillSource};
 pub use stats::AgentStats;

@@ -41,7 +41,14 @@ pub struct Player {
     view: Option<ViewTap>,
     /// The latest decision as a view or the log shows it (its room reused).
     decision: DecisionView,
+    /// Ground truth from outside the percept (SimSpark's monitor), for trials and evaluation.
+    truth_feed: Option<TruthFeed>,
 }
+
+/// Ground truth for a player by side (left?) and uniform number, where the server does not put
+/// it in the percept: SimSpark's monitor scene graph. Tests and evaluation only — it goes to
+/// `World::truth`, which no estimate or decision reads.
+pub type TruthFeed = Arc<dyn Fn(bool, u32) -> Option<libero_world::GroundTruth> + Send + Sync>;
 
 /// Where the evaluation log goes and whether it carries decision traces.
 struct EvalLog {
@@ -92,7 +99,13 @@ impl Player {
             to_record: 0,
             view: None,
             decision: DecisionView::default(),
+            truth_feed: None,
         }
+    }
+
+    /// Take ground truth from `feed` each cycle (SimSpark: the monitor's scene graph).
+    pub fn set_truth_feed(&mut self, feed: TruthFeed) {
+        self.truth_feed = Some(feed);
     }
 
     /// Copy this player's view into `slot` (at most once per the slot's period).
@@ -205,6 +218,12 @@ impl Player {
             Ok(percept) => {
                 let before = self.world.time;
                 self.world.update(&self.model, &percept);
+                if let (Some(feed), Some(side)) = (&self.truth_feed, self.world.game.side) {
+                    let left = side == libero_world::Side::Left;
+                    if let Some(truth) = feed(left, self.world.game.unum) {
+                        self.world.truth = truth;
+                    }
+                }
                 self.count_missed(before);
                 if !percept.skipped.is_empty() && self.world.cycle % 500 == 1 {
                     log::debug!("unread percept items: {:?}", percept.skipped);

@@ -21,6 +21,63 @@ pub struct RobotTruth {
     pub torso: [f64; 3],
     /// The z component of the torso's up axis: 1 upright, 0 lying.
     pub up: f64,
+    /// The torso's rotation, column-major: its x (right), y (forward) and z (up) axes in the
+    /// world frame (SimSpark's body convention).
+    pub rotation: [f64; 9],
+}
+
+impl RobotTruth {
+    /// The torso's orientation as Libero's models have it (x forward, y left, z up) in the
+    /// world frame, as a unit quaternion (w, x, y, z).
+    pub fn orientation(&self) -> [f64; 4] {
+        let r = &self.rotation;
+        let column = |c: usize| [r[3 * c], r[3 * c + 1], r[3 * c + 2]];
+        let (right, forward, up) = (column(0), column(1), column(2));
+        let left = [-right[0], -right[1], -right[2]];
+        // Rotation matrix with columns forward, left, up; element (row, col).
+        let m = |row: usize, col: usize| [forward, left, up][col][row];
+        quaternion_of(m)
+    }
+}
+
+/// A unit quaternion (w, x, y, z) from a rotation matrix (Shepperd's method).
+fn quaternion_of(m: impl Fn(usize, usize) -> f64) -> [f64; 4] {
+    let trace = m(0, 0) + m(1, 1) + m(2, 2);
+    let q = if trace > 0.0 {
+        let s = (trace + 1.0).sqrt() * 2.0;
+        [
+            s / 4.0,
+            (m(2, 1) - m(1, 2)) / s,
+            (m(0, 2) - m(2, 0)) / s,
+            (m(1, 0) - m(0, 1)) / s,
+        ]
+    } else if m(0, 0) > m(1, 1) && m(0, 0) > m(2, 2) {
+        let s = (1.0 + m(0, 0) - m(1, 1) - m(2, 2)).sqrt() * 2.0;
+        [
+            (m(2, 1) - m(1, 2)) / s,
+            s / 4.0,
+            (m(0, 1) + m(1, 0)) / s,
+            (m(0, 2) + m(2, 0)) / s,
+        ]
+    } else if m(1, 1) > m(2, 2) {
+        let s = (1.0 + m(1, 1) - m(0, 0) - m(2, 2)).sqrt() * 2.0;
+        [
+            (m(0, 2) - m(2, 0)) / s,
+            (m(0, 1) + m(1, 0)) / s,
+            s / 4.0,
+            (m(1, 2) + m(2, 1)) / s,
+        ]
+    } else {
+        let s = (1.0 + m(2, 2) - m(0, 0) - m(1, 1)).sqrt() * 2.0;
+        [
+            (m(1, 0) - m(0, 1)) / s,
+            (m(0, 2) + m(2, 0)) / s,
+            (m(1, 2) + m(2, 1)) / s,
+            s / 4.0,
+        ]
+    };
+    let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    q.map(|v| v / norm)
 }
 
 #[derive(Debug, Clone, Default)]
@@ -53,13 +110,13 @@ impl SceneTracker {
         };
         match marker.head() {
             Some("RSG") => {
-                self.roots = nodes_of(scene).map(full_node).collect();
+                self.roots = nodes_of(scene).map(|n| full_node(n, 0)).collect();
                 self.complete = true;
                 true
             }
             Some("RDS") if self.complete => {
                 for (node, diff) in self.roots.iter_mut().zip(nodes_of(scene)) {
-                    apply_diff(node, diff);
+                    apply_diff(node, diff, 0);
                 }
                 true
             }
@@ -106,6 +163,10 @@ impl SceneTracker {
                         unum,
                         torso: [world[12], world[13], world[14]],
                         up: world[10],
+                        rotation: [
+                            world[0], world[1], world[2], world[4], world[5], world[6], world[8],
+                            world[9], world[10],
+                        ],
                     });
                 }
             });
@@ -160,15 +221,18 @@ fn nodes_of(list: List<'_>) -> impl Iterator<Item = List<'_>> {
         .filter(|c| c.head() == Some("nd"))
 }
 
+/// Scene graphs are a few levels deep; anything deeper is left out rather than recursed into.
+const MAX_DEPTH: usize = 32;
+
 /// A node of a full frame: `(nd TRF (SLT …) (nd …)…)`, `(nd StaticMesh … (load M) (resetMaterials …))`.
-fn full_node(list: List<'_>) -> SceneNode {
+fn full_node(list: List<'_>, depth: usize) -> SceneNode {
     let mut node = SceneNode::default();
     for child in list.tail() {
         let Some(item) = child.as_list() else {
             continue;
         };
         match item.head() {
-            Some("nd") => node.children.push(full_node(item)),
+            Some("nd") if depth < MAX_DEPTH => node.children.push(full_node(item, depth + 1)),
             Some("SLT") => node.transform = item.tail_numbers::<16>(),
             Some("load") => {
                 node.mesh = item
@@ -191,7 +255,7 @@ fn full_node(list: List<'_>) -> SceneNode {
 }
 
 /// Walk an update beside the kept node: a new `SLT` replaces the old; children pair up in order.
-fn apply_diff(node: &mut SceneNode, diff: List<'_>) {
+fn apply_diff(node: &mut SceneNode, diff: List<'_>, depth: usize) {
     let mut children = node.children.iter_mut();
     for item in diff.tail().filter_map(|c| c.as_list()) {
         match item.head() {
@@ -201,8 +265,8 @@ fn apply_diff(node: &mut SceneNode, diff: List<'_>) {
                 }
             }
             Some("nd") => match children.next() {
-                Some(child) => apply_diff(child, item),
-                None => return,
+                Some(child) if depth < MAX_DEPTH => apply_diff(child, item, depth + 1),
+                _ => return,
             },
             _ => {}
         }
@@ -263,6 +327,41 @@ mod tests {
         );
         assert_ne!(left(&before).torso, left(&after).torso);
         assert_eq!(scene.ball(), Some([0.0, 0.0, 0.0417605]));
+    }
+
+    #[test]
+    fn garbage_and_deep_nesting_are_survived() {
+        let mut scene = SceneTracker::default();
+        assert!(!scene.update("(((((("));
+        assert!(!scene.update("not a frame"));
+        let deep = format!(
+            "()(RSG 0 1)({}{})",
+            "(nd TRF (SLT 1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1)".repeat(10_000),
+            ")".repeat(10_000)
+        );
+        assert!(scene.update(&deep));
+        assert!(scene.robots().is_empty() && scene.ball().is_none());
+    }
+
+    #[test]
+    fn orientation_in_libero_axes() {
+        let robot = |rotation| RobotTruth {
+            left: true,
+            unum: 1,
+            torso: [0.0; 3],
+            up: 1.0,
+            rotation,
+        };
+        // Upright, facing world +y (SimSpark's forward axis along world y): no turn at all in
+        // SimSpark's terms, a quarter turn left in ours (our x forward).
+        let facing_y = robot([1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+        let [w, x, y, z] = facing_y.orientation();
+        let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
+        assert!((yaw.to_degrees() - 90.0).abs() < 1e-9, "{yaw}");
+        // Facing world +x: body forward (column 1) = +x, right (column 0) = -y.
+        let facing_x = robot([0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+        let q = facing_x.orientation();
+        assert!((q[0].abs() - 1.0).abs() < 1e-9, "{q:?}");
     }
 
     #[test]

@@ -1,15 +1,12 @@
 //! The locomotion measurements behind `libero bench walk` and the live tests.
 
 use crate::course::Course;
-use crate::episode::{Episode, Recording, Trial, TrialError};
+use crate::episode::{start_point, Episode, Recording, Trial, TrialError};
 use crate::measure::mean_velocity;
 use libero_skills::{BodyIntent, Intent, SkillParams};
 
 /// Seconds at the start of a measurement that are left out (the walk accelerating).
 pub const RAMP_S: f64 = 2.0;
-
-/// Where measurements start: in our half, facing +x, clear of the ball at the centre.
-const START: [f64; 3] = [-24.0, 0.0, 0.0];
 
 /// One measured figure.
 #[derive(Debug, Clone, PartialEq)]
@@ -49,10 +46,12 @@ fn walk(
     max_s: f64,
     until_forward_m: Option<f64>,
 ) -> Result<(Recording, bool), TrialError> {
+    // In our half, facing +x, clear of the ball at the centre.
+    let start = start_point(trial.model().server);
     let script = move |world: &libero_world::World, t: f64| {
         let fallen = world.body.posture != libero_world::Posture::Upright;
         let far = match (until_forward_m, world.truth.torso_position) {
-            (Some(d), Some(p)) => p[0] - START[0] >= d,
+            (Some(d), Some(p)) => p[0] - start[0] >= d,
             _ => false,
         };
         (t < max_s && !fallen && !far).then_some(Intent {
@@ -67,7 +66,7 @@ fn walk(
     let rec = trial.run(
         params,
         Episode {
-            start: START,
+            start,
             lying: None,
             settle_s: 1.0,
             script,
@@ -77,7 +76,7 @@ fn walk(
     let out_of_time = last.is_some_and(|s| s.t >= max_s - 2.0 * CYCLE_S);
     let arrived = match (until_forward_m, last) {
         // The last recorded sample is one cycle short of the goal at most.
-        (Some(d), Some(s)) => s.position[0] - START[0] >= d - 0.05,
+        (Some(d), Some(s)) => s.position[0] - start[0] >= d - 0.05,
         _ => false,
     };
     let stopped_early = !out_of_time && !arrived;

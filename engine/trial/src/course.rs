@@ -230,6 +230,7 @@ mod tests {
                 roll_deg: 0.0,
                 tilt_deg: 0.0,
                 posture: libero_world::Posture::Upright,
+                low: false,
             });
             let [f, s, w] = velocity(t);
             let r = yaw.to_radians();

@@ -2,7 +2,7 @@
 
 use libero_agent::{run_agent, AgentConfig, AgentStats, Decider, Player};
 use libero_model::RobotModel;
-use libero_server::{Monitor, ServerOptions, ServerProcess};
+use libero_server::{Monitor, ServerKind, ServerOptions, ServerProcess};
 use libero_skills::getup::Lying;
 use libero_skills::{Intent, SkillParams, SkillStatus, Skills};
 use libero_world::{Posture, World};
@@ -44,17 +44,23 @@ pub struct Sample {
     pub tilt_deg: f64,
     /// The posture the agent's own fall detector reported.
     pub posture: Posture,
+    /// The torso below [`FALLEN_SHARE_OF_STANDING`] of the robot's standing height.
+    pub low: bool,
 }
 
 impl Sample {
     /// Lying or collapsed: torso far below walking height, or the fall detector says so.
     pub fn fallen(&self) -> bool {
-        self.position[2] < FALLEN_TORSO_Z_M || self.posture != Posture::Upright
+        self.low || self.posture != Posture::Upright
     }
 }
 
-/// Torso heights below this count as a fall (walking height is about 0.6 m).
+/// Torso heights below this count as a T1's fall (walking height is about 0.6 m).
 pub const FALLEN_TORSO_Z_M: f64 = 0.4;
+
+/// A torso below this share of the model's standing height has fallen (the T1's 0.4 m of
+/// 0.67 m).
+pub const FALLEN_SHARE_OF_STANDING: f64 = 0.6;
 
 /// Everything recorded during the script.
 #[derive(Debug, Clone, Default)]
@@ -164,6 +170,16 @@ pub struct Trial {
     status: Arc<Mutex<SkillStatus>>,
 }
 
+/// Where a trial's robot is first placed, 3.5 m out from our goal line facing +x, clear of
+/// the ball at the centre: `[x, y, heading_deg]` for a server's field.
+pub fn start_point(server: ServerKind) -> [f64; 3] {
+    let half_length = match server {
+        ServerKind::RcssMj => 27.5,
+        ServerKind::SimSpark => 15.0,
+    };
+    [-(half_length - 3.5), 0.0, 0.0]
+}
+
 /// Torso height at which the monitor places the robot: soles just on the ground (§3.2).
 const PLACE_TORSO_Z_M: f64 = 0.6735;
 /// Torso height at which a lying robot is placed (just above its resting height).
@@ -178,16 +194,26 @@ const UNUM: u32 = 1;
 const EPISODES_PER_SERVER: u32 = 20;
 
 impl Trial {
-    /// Start a fresh fast-mode server for the T1.
+    /// Start a fresh fast-mode rcssservermj for the T1.
     pub fn start() -> Result<Self, TrialError> {
-        let server = ServerProcess::start(ServerOptions::default())?;
+        Self::start_on(Arc::new(
+            RobotModel::builtin("T1").expect("the T1 model is built in"),
+        ))
+    }
+
+    /// Start a fresh fast-mode server of `model`'s kind for it (a NAO type: SimSpark).
+    pub fn start_on(model: Arc<RobotModel>) -> Result<Self, TrialError> {
+        let server = ServerProcess::start(ServerOptions {
+            server: model.server,
+            ..ServerOptions::default()
+        })?;
         let monitor = Arc::new(Mutex::new(
-            Monitor::connect(server.monitor_port).map_err(TrialError::Monitor)?,
+            Monitor::connect_to(model.server, server.monitor_port).map_err(TrialError::Monitor)?,
         ));
         Ok(Self {
             server,
             monitor,
-            model: Arc::new(RobotModel::builtin("T1").expect("the T1 model is built in")),
+            model,
             episodes: 0,
             episodes_on_server: 0,
             status: Arc::default(),
@@ -250,7 +276,8 @@ impl Trial {
     pub fn restart(&mut self) -> Result<(), TrialError> {
         self.server.restart()?;
         self.episodes_on_server = 0;
-        let monitor = Monitor::connect(self.server.monitor_port).map_err(TrialError::Monitor)?;
+        let monitor = Monitor::connect_to(self.model.server, self.server.monitor_port)
+            .map_err(TrialError::Monitor)?;
         *self
             .monitor
             .lock()
@@ -276,7 +303,20 @@ impl Trial {
         let recording = Arc::new(Mutex::new(Recording::default()));
         let shutdown = Arc::new(AtomicBool::new(false));
         let [x, y, heading] = episode.start;
+        let simspark = self.model.server == ServerKind::SimSpark;
         let place = match episode.lying {
+            // SimSpark holds a placement only outside BeforeKickOff, and its move yaw 0
+            // faces +y (simspark.md §7); it has no placement with a whole orientation.
+            None if simspark => format!(
+                "(playMode PlayOn)(agent (unum {UNUM}) (team Left) (move {x} {y} {} {}))",
+                self.model.standing_torso_height + 0.01,
+                heading - 90.0
+            ),
+            Some(_) if simspark => {
+                return Err(TrialError::Elsewhere(
+                    "lying placements are not available on SimSpark yet".into(),
+                ))
+            }
             None => format!(
                 "(agent (unum {UNUM}) (team Left) (move {x} {y} {PLACE_TORSO_Z_M} {heading}))"
             ),
@@ -285,7 +325,9 @@ impl Trial {
                 format!("(agent (unum {UNUM}) (team Left) (move3d {x} {y} {LYING_TORSO_Z_M} {w} {qx} {qy} {qz}))")
             }
         };
+        let low_below_m = self.model.standing_torso_height * FALLEN_SHARE_OF_STANDING;
         let decider = ScriptedDecider {
+            low_below_m,
             script: episode.script,
             settle_s: episode.settle_s,
             recording: Arc::clone(&recording),
@@ -304,6 +346,21 @@ impl Trial {
             UNUM,
             Arc::clone(&stats),
         );
+        if simspark {
+            let snapshot = self
+                .monitor
+                .lock()
+                .map_err(|_| TrialError::Monitor(std::io::Error::other("monitor lock poisoned")))?
+                .reader();
+            player.set_truth_feed(Arc::new(move |left, unum| {
+                let robots = snapshot().robots;
+                let robot = robots.iter().find(|r| r.left == left && r.unum == unum)?;
+                Some(libero_world::GroundTruth {
+                    torso_position: Some(robot.torso),
+                    torso_orientation: Some(robot.orientation()),
+                })
+            }));
+        }
         let mut config = AgentConfig::new("127.0.0.1", self.server.agent_port);
         config.max_connect_failures = Some(20);
         config.silence_timeout = std::time::Duration::from_secs(5);
@@ -324,6 +381,8 @@ impl Trial {
 
 /// Decisions from a script, with placement, settling and recording around it.
 struct ScriptedDecider<S> {
+    /// Torso heights below this are a fall [m].
+    low_below_m: f64,
     script: S,
     settle_s: f64,
     recording: Arc<Mutex<Recording>>,
@@ -371,7 +430,7 @@ where
             }
         };
         if let Ok(mut r) = self.recording.lock() {
-            r.samples.push(sample(world, t));
+            r.samples.push(sample(world, t, self.low_below_m));
             r.intents.push(intent.clone());
         }
         intent
@@ -384,7 +443,7 @@ where
     }
 }
 
-fn sample(world: &World, t: f64) -> Sample {
+fn sample(world: &World, t: f64, low_below_m: f64) -> Sample {
     let position = world.truth.torso_position.unwrap_or([f64::NAN; 3]);
     let [w, x, y, z] = world.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
     let yaw_deg = (2.0 * (w * z + x * y))
@@ -406,6 +465,7 @@ fn sample(world: &World, t: f64) -> Sample {
         roll_deg: -roll_deg,
         tilt_deg,
         posture: world.body.posture,
+        low: position[2] < low_below_m,
     }
 }
 

@@ -224,6 +224,7 @@ mod tests {
             roll_deg: 0.0,
             tilt_deg: tilt,
             posture: Posture::Upright,
+            low: z < crate::episode::FALLEN_TORSO_Z_M,
         }
     }
 

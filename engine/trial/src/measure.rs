@@ -65,6 +65,7 @@ mod tests {
             roll_deg: 0.0,
             tilt_deg: 0.0,
             posture: Posture::Upright,
+            low: false,
         }
     }
 

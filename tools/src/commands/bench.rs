@@ -32,6 +32,10 @@ pub enum Measure {
 #[derive(Args)]
 pub struct BenchArgs {
     pub what: Measure,
+    /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark; `walk` only
+    /// so far).
+    #[arg(long, default_value = "T1")]
+    pub robot: String,
     /// A skill parameter file instead of the built-in one.
     #[arg(long)]
     pub params: Option<PathBuf>,
@@ -54,13 +58,21 @@ pub struct BenchArgs {
 }
 
 pub fn run(args: BenchArgs) -> CliResult {
-    let model = RobotModel::builtin("T1")?;
+    let model = RobotModel::builtin(&args.robot)?;
+    let simspark = model.server == libero_model::ServerKind::SimSpark;
+    if simspark && !matches!(args.what, Measure::Walk) {
+        return Err(format!(
+            "only `libero bench walk` runs on SimSpark so far (robot {})",
+            args.robot
+        )
+        .into());
+    }
     let params = match &args.params {
         Some(path) => SkillParams::load(path, &model)?,
         None => SkillParams::builtin(&model)?,
     };
     match args.what {
-        Measure::Walk => bench_walk(&params, &args),
+        Measure::Walk => bench_walk(&params, &args, model),
         Measure::GetUp => bench_get_up(&params, &args),
         Measure::Kick => bench_kick(&params, &args),
         Measure::Cycle => {
@@ -82,13 +94,13 @@ fn fall_note(fell_at: Option<f64>) -> String {
     fell_at.map_or_else(|| "no fall".to_string(), |t| format!("FELL at {t:.1} s"))
 }
 
-fn bench_walk(params: &SkillParams, args: &BenchArgs) -> CliResult {
+fn bench_walk(params: &SkillParams, args: &BenchArgs, model: RobotModel) -> CliResult {
     let (distance, seconds, course_s) = if args.short {
         (10.0, 10.0, 60.0)
     } else {
         (20.0, 20.0, 300.0)
     };
-    let mut trial = Trial::start()?;
+    let mut trial = Trial::start_on(std::sync::Arc::new(model))?;
     let f = bench::forward(&mut trial, params, distance, distance / 0.2)?;
     println!(
         "forward {:.2} m/s ({:.1} m in {:.1} s after a {:.0} s start, {})",

@@ -8,7 +8,7 @@ use super::setup::{ctrl_c_flag, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
 use libero_model::FieldGeometry;
-use libero_server::{Rules, ServerOptions, ServerProcess};
+use libero_server::{Rules, ServerKind, ServerOptions, ServerProcess};
 use observer::{Figures, Goals, Observer, Sample};
 use serde::Serialize;
 use side::{TeamEntry, TeamSetup};
@@ -23,9 +23,13 @@ const SETTLE_BEFORE_KICK_OFF_S: f64 = 1.0;
 
 #[derive(Args)]
 pub struct MatchArgs {
-    /// Players per team.
-    #[arg(long, default_value_t = 7)]
-    pub players: u32,
+    /// `rcssservermj` (T1 players, 7 a side with ssim rules) or `simspark` (NAO players of the
+    /// types the team rules give each number, 11 a side on the 30 × 20 m field).
+    #[arg(long, default_value = "rcssservermj")]
+    pub server: ServerKind,
+    /// Players per team [default: a full team].
+    #[arg(long)]
+    pub players: Option<u32>,
     /// Keep 20 ms cycles instead of the fast `--sync --no-realtime` mode.
     #[arg(long)]
     pub realtime: bool,
@@ -96,12 +100,42 @@ pub struct MatchReport {
     pub halves: Vec<HalfReport>,
 }
 
+impl MatchArgs {
+    /// A full team for the server and rules.
+    fn players_per_team(&self) -> u32 {
+        match self.server {
+            ServerKind::RcssMj => self.rules.players_per_team(),
+            ServerKind::SimSpark => 11,
+        }
+    }
+
+    pub fn players(&self) -> u32 {
+        self.players.unwrap_or(self.players_per_team())
+    }
+
+    /// The field the server plays on.
+    fn field_name(&self) -> &'static str {
+        match (self.server, self.rules) {
+            (ServerKind::SimSpark, _) => "simspark",
+            (ServerKind::RcssMj, Rules::Ssim) => "fifa7vs7",
+            (ServerKind::RcssMj, Rules::Fifa) => "fifa",
+        }
+    }
+
+    /// Play time of one half [s] (SimSpark's `RuleHalfTime` is 300 s).
+    fn half_time_s(&self) -> f64 {
+        match self.server {
+            ServerKind::RcssMj => self.rules.half_time_s(),
+            ServerKind::SimSpark => 300.0,
+        }
+    }
+}
+
 pub fn run(args: MatchArgs) -> CliResult {
-    if args.players == 0 || args.players > args.rules.players_per_team() {
+    let full = args.players_per_team();
+    if args.players() == 0 || args.players() > full {
         return Err(format!(
-            "--players must be 1–{} with {} rules",
-            args.rules.players_per_team(),
-            args.rules.as_arg()
+            "--players must be 1–{full} on this server and rules (--server, --rules)"
         )
         .into());
     }
@@ -120,10 +154,7 @@ pub fn run(args: MatchArgs) -> CliResult {
     if home.name == away.name {
         return Err("the two teams need different names (--home-name, --away-name)".into());
     }
-    let field = FieldGeometry::builtin(match args.rules {
-        Rules::Ssim => "fifa7vs7",
-        Rules::Fifa => "fifa",
-    })?;
+    let field = FieldGeometry::builtin(args.field_name())?;
     let (half_length, _) = field.half_extent();
     let goals = Goals {
         half_length,
@@ -170,10 +201,15 @@ fn play_half(
         view.set.clear();
     }
     println!(
-        "half {half}: starting rcssservermj ({} mode)…",
+        "half {half}: starting {} ({} mode)…",
+        match args.server {
+            ServerKind::RcssMj => "rcssservermj",
+            ServerKind::SimSpark => "SimSpark rcssserver3d",
+        },
         if args.realtime { "real-time" } else { "fast" }
     );
     let server = ServerProcess::start(ServerOptions {
+        server: args.server,
         sync: !args.realtime,
         realtime: args.realtime,
         rules: args.rules,
@@ -185,7 +221,14 @@ fn play_half(
     let mut entries: Vec<TeamEntry> = Vec::new();
     for setup in order {
         // Connect one team after the other: the first team the server hears from plays left.
-        let entry = setup.start(port, args.players, &args.log, &half_over, view)?;
+        let entry = setup.start(
+            port,
+            args.server,
+            args.players(),
+            &args.log,
+            &half_over,
+            view,
+        )?;
         entry.wait_joined(Duration::from_secs(90), shutdown);
         entries.push(entry);
     }
@@ -222,13 +265,20 @@ fn play_half(
     );
     let started = Instant::now();
     let end_time = args.duration.unwrap_or(f64::INFINITY);
-    let half_length_s = args.duration.unwrap_or(args.rules.half_time_s());
+    let half_length_s = args.duration.unwrap_or(args.half_time_s());
     let mut observer = Observer::new(goals);
     let mut progress = Progress::new(half_length_s);
     let mut last_frame = 0;
     let snapshot = loop {
         let s = monitor.snapshot();
-        if s.play_mode == "GameOver" || s.time >= end_time || shutdown.load(Ordering::Relaxed) {
+        // SimSpark goes on to the second half by itself (BeforeKickOff, half 2): each half is
+        // a server run of its own here, as on rcssservermj.
+        let simspark_half_over = args.server == ServerKind::SimSpark && s.half > 1;
+        if s.play_mode == "GameOver"
+            || simspark_half_over
+            || s.time >= end_time
+            || shutdown.load(Ordering::Relaxed)
+        {
             break s;
         }
         if s.frames != last_frame {
@@ -239,7 +289,11 @@ fn play_half(
                     mode: s.play_mode.clone(),
                     ball,
                     score: (s.score_left, s.score_right),
-                    robots: entries.iter().flat_map(TeamEntry::robots).collect(),
+                    robots: match args.server {
+                        ServerKind::RcssMj => entries.iter().flat_map(TeamEntry::robots).collect(),
+                        // The monitor's scene graph, for the sides our agents play.
+                        ServerKind::SimSpark => side::with_estimates(&s.robots, &entries),
+                    },
                 });
             }
             progress.show(&s, &names);

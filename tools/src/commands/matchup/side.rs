@@ -1,9 +1,10 @@
 //! The two teams of a match: ours (in this process, from a folder of files) or an external one
 //! (a start command).
 
-use super::super::setup::{build_player, load_robot, DataArgs, LogArgs};
+use super::super::setup::{build_player, load_robot, robot_for_unum, DataArgs, LogArgs};
 use super::observer::RobotSample;
 use libero_agent::{AgentConfig, AgentStats, Team};
+use libero_server::{RobotTruth, ServerKind};
 use std::process::{Child, Command};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -41,6 +42,7 @@ impl TeamSetup {
     pub fn start(
         &self,
         port: u16,
+        server: ServerKind,
         players: u32,
         log: &LogArgs,
         // This half's own flag: stopping the team must not stop the match.
@@ -49,15 +51,24 @@ impl TeamSetup {
     ) -> Result<TeamEntry, Box<dyn std::error::Error>> {
         let running = match &self.kind {
             Kind::Ours(data) => {
-                let source = data.source()?;
+                let source = data.source_for(server)?;
                 if let Some(view) = view {
                     view.watch_library(&self.name, &source);
                 }
-                let model = load_robot("T1", None)?;
-                let skills = data.skills(&model)?;
+                let robot = match server {
+                    ServerKind::RcssMj => "T1",
+                    ServerKind::SimSpark => "NAO",
+                };
+                // One skill parameter file for the team (every NAO type shares nao.ron).
+                let mut skills = None;
                 let mut team = Vec::new();
                 for unum in 1..=players {
-                    let mut player = build_player(&model, &self.name, unum, &source, &skills)?;
+                    let model = load_robot(&robot_for_unum(robot, unum), None)?;
+                    let skills = match &skills {
+                        Some(s) => s,
+                        None => skills.insert(data.skills(&model)?),
+                    };
+                    let mut player = build_player(&model, &self.name, unum, &source, skills)?;
                     log.attach(&mut player, &self.name, unum, true)?;
                     if let Some(view) = view {
                         view.show(&mut player);
@@ -105,6 +116,30 @@ impl TeamSetup {
 enum Running {
     Ours(Team),
     External(Child),
+}
+
+/// The monitor's robots on the sides our teams play, each with its agent's self-estimate.
+pub fn with_estimates(robots: &[RobotTruth], entries: &[TeamEntry]) -> Vec<RobotSample> {
+    robots
+        .iter()
+        .filter_map(|robot| {
+            let team = entries.iter().find_map(|entry| match &entry.running {
+                Running::Ours(team) if entry.plays_left() == Some(robot.left) => Some(team),
+                _ => None,
+            })?;
+            let estimate = team
+                .stats
+                .iter()
+                .find(|(unum, _)| *unum == robot.unum)
+                .and_then(|(_, stats)| stats.self_estimate());
+            Some(RobotSample {
+                left: robot.left,
+                unum: robot.unum,
+                torso: robot.torso,
+                estimate,
+            })
+        })
+        .collect()
 }
 
 /// A team taking part in a half.
