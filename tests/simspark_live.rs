@@ -159,3 +159,24 @@ fn twenty_two_naos_join_stand_and_rejoin_a_restarted_server() {
     home.join();
     away.join();
 }
+
+/// The NAO's walk on the real SimSpark, shortened for CI (the full measurement is `libero bench
+/// walk --robot nao_type0`). Ground truth from the monitor's scene graph. The bar sits below
+/// what the shipped nao.ron reaches (session 12: 0.19 m/s forward in 4 of 4 `--short` runs), so a walk
+/// that breaks fails it and run-to-run scatter does not.
+#[test]
+fn a_nao_walks_forward_without_falling() {
+    let _turn = live_turn();
+    let model = Arc::new(RobotModel::builtin("nao_type0").unwrap());
+    let params =
+        libero_skills::SkillParams::load(&build::default_skill_params_file(&model), &model)
+            .expect("the shipped nao.ron");
+    let mut trial = libero_trial::Trial::start_on(Arc::clone(&model)).expect("SimSpark starts");
+    let f = libero_trial::bench::forward(&mut trial, &params, 4.0, 25.0).unwrap();
+    eprintln!(
+        "NAO forward {:.3} m/s over {:.1} s ({:.2} m), fell at {:?}",
+        f.speed, f.seconds, f.distance, f.fell_at
+    );
+    assert_eq!(f.fell_at, None);
+    assert!(f.speed >= 0.15, "forward {:.3} m/s", f.speed);
+}

@@ -442,6 +442,25 @@ mod tests {
     }
 
     #[test]
+    fn a_missing_or_partial_source_is_refused_with_what_to_pass() {
+        let dir = tempfile::tempdir().unwrap();
+        let missing = dir.path().join("nowhere.tar.xz");
+        let e = ensure_simspark_installed(Some(&missing))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("--source") && e.contains("nowhere.tar.xz"),
+            "{e}"
+        );
+        // A folder without rcssserver3d/ is named as such before anything is built.
+        std::fs::create_dir_all(dir.path().join("spark")).unwrap();
+        let e = ensure_simspark_installed(Some(dir.path()))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("rcssserver3d/"), "{e}");
+    }
+
+    #[test]
     fn an_archive_is_keyed_by_its_bytes() {
         let dir = tempfile::tempdir().unwrap();
         let a = dir.path().join("a.tar.xz");

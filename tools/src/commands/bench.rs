@@ -33,9 +33,12 @@ pub enum Measure {
 pub struct BenchArgs {
     pub what: Measure,
     /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark; `walk` only
-    /// so far).
-    #[arg(long, default_value = "T1")]
-    pub robot: String,
+    /// so far) [default: T1, or nao_type0 with `--server simspark`].
+    #[arg(long)]
+    pub robot: Option<String>,
+    /// The server; the robot's own by default (a NAO type plays on SimSpark).
+    #[arg(long)]
+    pub server: Option<libero_model::ServerKind>,
     /// A skill parameter file instead of the built-in one.
     #[arg(long)]
     pub params: Option<PathBuf>,
@@ -58,14 +61,21 @@ pub struct BenchArgs {
 }
 
 pub fn run(args: BenchArgs) -> CliResult {
-    let model = RobotModel::builtin(&args.robot)?;
-    let simspark = model.server == libero_model::ServerKind::SimSpark;
+    use libero_model::ServerKind;
+    let robot = match (&args.robot, args.server) {
+        (Some(robot), _) => robot.clone(),
+        (None, Some(ServerKind::SimSpark)) => "nao_type0".to_string(),
+        (None, _) => "T1".to_string(),
+    };
+    let model = RobotModel::builtin(&robot)?;
+    if args.server.is_some_and(|server| server != model.server) {
+        return Err(format!("{robot} does not play on that server (--server, --robot)").into());
+    }
+    let simspark = model.server == ServerKind::SimSpark;
     if simspark && !matches!(args.what, Measure::Walk) {
-        return Err(format!(
-            "only `libero bench walk` runs on SimSpark so far (robot {})",
-            args.robot
-        )
-        .into());
+        return Err(
+            format!("only `libero bench walk` runs on SimSpark so far (robot {robot})").into(),
+        );
     }
     let params = match &args.params {
         Some(path) => SkillParams::load(path, &model)?,
