@@ -229,11 +229,14 @@ fn the_formation_editor_writes_the_file_by_span_and_the_running_player_follows()
         std::fs::create_dir(team.path().join(folder)).unwrap();
         for entry in std::fs::read_dir(repository().join(folder)).unwrap() {
             let path = entry.unwrap().path();
-            std::fs::copy(
-                &path,
-                team.path().join(folder).join(path.file_name().unwrap()),
-            )
-            .unwrap();
+            // Files only: formations/simspark/ is another team's set.
+            if path.is_file() {
+                std::fs::copy(
+                    &path,
+                    team.path().join(folder).join(path.file_name().unwrap()),
+                )
+                .unwrap();
+            }
         }
     }
     let kickoff = team.path().join("formations/kickoff.ron");

@@ -156,7 +156,10 @@ fn reload(c: &mut Criterion) {
         .unwrap()
         {
             let entry = entry.unwrap();
-            std::fs::copy(entry.path(), dir.path().join(sub).join(entry.file_name())).unwrap();
+            // Files only: formations/simspark/ is another team's set.
+            if entry.path().is_file() {
+                std::fs::copy(entry.path(), dir.path().join(sub).join(entry.file_name())).unwrap();
+            }
         }
     }
     let debounce = Duration::from_millis(50);

@@ -81,6 +81,43 @@ fn shipped_files_have_no_errors_or_warnings() {
     assert_eq!(report.diagnostics.len(), 0, "{}", report.render_text());
 }
 
+/// The NAO team's set (`formations/simspark/`, a folder with its own team file) loads with the
+/// same trees, on SimSpark's field, with a place for all 11 in every formation; and the 7 v 7
+/// set loaded from `formations/` holds none of its files.
+#[test]
+fn the_simspark_set_is_a_team_of_its_own() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let paths = [root.join("behaviors"), root.join("formations/simspark")];
+    let report = libero_strategy::validate_paths(&paths);
+    assert_eq!(report.diagnostics.len(), 0, "{}", report.render_text());
+    let nao = libero_strategy::load(&paths).unwrap_or_else(|r| panic!("{}", r.render_text()));
+    let strategy = strategy_of(&nao);
+    assert_eq!(strategy.field().name(), "simspark");
+    assert_eq!(strategy.formations.len(), 4);
+    for name in strategy.formations.keys() {
+        for unum in 1..=11u8 {
+            let at = strategy
+                .formation(name)
+                .and_then(|f| f.position(unum, libero_behavior::Vec2::new(0.0, 0.0)));
+            let at = at.unwrap_or_else(|| panic!("{name}: no place for {unum}"));
+            assert!(
+                at.x.abs() <= 15.0 && at.y.abs() <= 10.0,
+                "{name} {unum}: {at:?}"
+            );
+        }
+    }
+    let library = library();
+    let seven = strategy_of(&library);
+    assert_eq!(seven.field().name(), "fifa7vs7");
+    let files = library.files();
+    assert!(
+        files
+            .iter()
+            .all(|f| !f.components().any(|c| c.as_os_str() == "simspark")),
+        "{files:?}"
+    );
+}
+
 #[test]
 fn team_file_assigns_roots_and_formations_on_its_field() {
     let library = library();
@@ -272,6 +309,10 @@ fn the_shipped_files_load_with_a_byte_order_mark_in_front_of_each() {
         std::fs::create_dir(&copy).unwrap();
         for entry in std::fs::read_dir(&folder).unwrap() {
             let path = entry.unwrap().path();
+            // Files only: formations/simspark/ is another team's set.
+            if !path.is_file() {
+                continue;
+            }
             let text = std::fs::read_to_string(&path).unwrap();
             std::fs::write(
                 copy.join(path.file_name().unwrap()),

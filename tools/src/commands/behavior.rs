@@ -176,6 +176,52 @@ mod tests {
     /// A copy of the shipped trees and strategy files, a scenario beside them (so the folder
     /// is split file by file), and links that loop or lead out.
     #[cfg(unix)]
+    /// Plain files and folders (formations/simspark/ too), as the repository has them.
+    fn copy_tree(from: &std::path::Path, to: &std::path::Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for entry in std::fs::read_dir(from).unwrap() {
+            let path = entry.unwrap().path();
+            let target = to.join(path.file_name().unwrap());
+            if path.is_dir() {
+                copy_tree(&path, &target);
+            } else {
+                std::fs::copy(&path, target).unwrap();
+            }
+        }
+    }
+
+    #[test]
+    fn a_second_team_set_is_checked_on_its_own() {
+        let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+        let dir = tempfile::tempdir().unwrap();
+        for sub in ["behaviors", "formations"] {
+            copy_tree(&repo.join(sub), &dir.path().join(sub));
+        }
+        let paths = [dir.path().join("behaviors"), dir.path().join("formations")];
+        let report = check(&paths);
+        assert_eq!(report.error_count(), 0, "{}", report.render_text());
+        // A position off SimSpark's 30 x 20 field in the NAO set: named there, and only once.
+        let kickoff = dir.path().join("formations/simspark/kickoff.ron");
+        let text = std::fs::read_to_string(&kickoff).unwrap();
+        std::fs::write(
+            &kickoff,
+            text.replacen("1: (-13.9, 0.0)", "1: (-19.9, 0.0)", 1),
+        )
+        .unwrap();
+        let report = check(&paths);
+        let text = report.render_text();
+        let off_field: Vec<_> = report
+            .diagnostics
+            .iter()
+            .filter(|d| d.code == "off-field")
+            .collect();
+        assert_eq!(off_field.len(), 1, "{text}");
+        assert!(
+            text.contains("simspark/kickoff.ron") && text.contains("simspark field"),
+            "{text}"
+        );
+    }
+
     #[test]
     fn a_folder_of_link_loops_validates_at_once_and_defines_nothing_twice() {
         use std::os::unix::fs::symlink;
@@ -187,11 +233,7 @@ mod tests {
             ("formations", "formations"),
             ("scenarios", "scenarios"),
         ] {
-            std::fs::create_dir_all(root.join(to)).unwrap();
-            for entry in std::fs::read_dir(repo.join(from)).unwrap() {
-                let entry = entry.unwrap();
-                std::fs::copy(entry.path(), root.join(to).join(entry.file_name())).unwrap();
-            }
+            copy_tree(&repo.join(from), &root.join(to));
         }
         symlink("b", root.join("a")).unwrap();
         symlink("a", root.join("b")).unwrap();
