@@ -86,8 +86,10 @@ fn repository_root() -> PathBuf {
 /// The repository's data folders (`behaviors/`, `formations/`): under `LIBERO_HOME` if set,
 /// else under the checkout this crate was built from.
 pub fn default_data_dirs() -> Vec<PathBuf> {
-    let root = repository_root();
-    vec![root.join("behaviors"), root.join("formations")]
+    vec![
+        repository_root().join("behaviors"),
+        default_formations_dir(libero_model::ServerKind::RcssMj),
+    ]
 }
 
 /// The repository's formations for a server's field: `formations/` on rcssservermj (7 a side),

@@ -84,14 +84,16 @@ impl Monitor {
                 while let Ok(frame) = frames.read_frame() {
                     if let Ok(text) = std::str::from_utf8(frame) {
                         if server == ServerKind::SimSpark {
-                            let moved = scene.update(text);
+                            // The scene's truth is worked out before the lock: readers
+                            // (agents' truth feeds) wait on it every cycle.
+                            let truth = scene.update(text).then(|| (scene.ball(), scene.robots()));
                             if let Ok(mut s) = shared.lock() {
                                 if update_simspark_state(text, &mut modes, &mut s) {
                                     s.frames += 1;
                                 }
-                                if moved {
-                                    s.ball = scene.ball().or(s.ball);
-                                    s.robots = scene.robots();
+                                if let Some((ball, robots)) = truth {
+                                    s.ball = ball.or(s.ball);
+                                    s.robots = robots;
                                 }
                             }
                             continue;

@@ -226,9 +226,8 @@ impl ServerProcess {
         }
     }
 
-    /// Which server this is.
-    pub fn kind(&self) -> ServerKind {
-        self.options.server
+    fn is_simspark(&self) -> bool {
+        self.options.server == ServerKind::SimSpark
     }
 
     fn rcssmj_arguments(&self, cmd: &mut Command) {
@@ -254,9 +253,8 @@ impl ServerProcess {
         let start = Instant::now();
         loop {
             let log = read_text(&self.log_path());
-            let simspark = matches!(self.program, Program::SimSpark(_));
             // SimSpark logs nothing at start-up: its monitor's first frame says it is up.
-            if simspark || log.contains("Starting server... DONE") {
+            if self.is_simspark() || log.contains("Starting server... DONE") {
                 return self.wait_first_step(start);
             }
             if let Some(child) = self.child.as_mut() {
@@ -299,8 +297,7 @@ impl ServerProcess {
                     return Ok(());
                 }
             }
-            if matches!(self.program, Program::SimSpark(_))
-                && read_text(&self.log_path()).contains("Address already in use")
+            if self.is_simspark() && read_text(&self.log_path()).contains("Address already in use")
             {
                 // SimSpark keeps running without the socket it could not bind.
                 self.kill();

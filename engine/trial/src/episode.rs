@@ -24,6 +24,9 @@ pub enum TrialError {
     /// An evaluation run elsewhere (a job on another process or machine) failed.
     #[error("evaluation failed: {0}")]
     Elsewhere(String),
+    /// The episode asks for something this server cannot do yet.
+    #[error("not available on this server: {0}")]
+    Unsupported(&'static str),
     #[error("checkpoint {path}: {detail}")]
     Checkpoint { path: String, detail: String },
 }
@@ -313,8 +316,8 @@ impl Trial {
                 heading - 90.0
             ),
             Some(_) if simspark => {
-                return Err(TrialError::Elsewhere(
-                    "lying placements are not available on SimSpark yet".into(),
+                return Err(TrialError::Unsupported(
+                    "lying placements (SimSpark has no `move3d`)",
                 ))
             }
             None => format!(
