@@ -2,12 +2,58 @@
 
 use libero_model::{RobotModel, ServerKind};
 use libero_protocol::{ActionWriter, MotorCommand};
-use libero_skills::{Intent, JointTargets};
+use libero_skills::{Intent, JointTarget, JointTargets};
 use libero_world::{Side, World};
 
-/// SimSpark joints are driven by velocity: v = gain · (target − angle) [1/s]. With a reply
-/// acting two cycles later, 10/s closes a fifth of the error per 20 ms cycle without overshoot.
-const SIMSPARK_POSITION_GAIN: f64 = 10.0;
+/// Server cycle length [s]: SimSpark integrates a joint velocity over one such step.
+const SIMSPARK_STEP_S: f64 = 0.02;
+
+/// Targets stay this far inside a joint's range: commanding into a limit asks for a velocity
+/// the server's limit check ignores (simspark.md §2.2).
+const SIMSPARK_LIMIT_MARGIN_DEG: f64 = 0.5;
+
+/// Position control on SimSpark's velocity motors (simspark.md §8.2): the reply to percept k
+/// acts during the step after the one the previous reply still drives, so the angle it starts
+/// from is predicted, θ̂ = θ_k + v_prev·h, and v = g·(θ* − θ̂)/h with g the joint's `kp`
+/// (1: the error gone in one step; stable for 0 < g < 2). A plain v = g'·(θ* − θ_k) must keep
+/// g'·h below 0.25 to avoid overshoot: a 100 ms lag that a 0.3 s step cannot walk on.
+#[derive(Debug, Default)]
+pub struct VelocityServo {
+    /// The velocity each joint was last sent [rad/s].
+    sent_rad_s: Vec<f64>,
+}
+
+impl VelocityServo {
+    /// Forget what was sent: the server wipes motor state when anyone joins or leaves.
+    pub fn reset(&mut self) {
+        self.sent_rad_s.iter_mut().for_each(|v| *v = 0.0);
+    }
+
+    fn command(
+        &mut self,
+        index: usize,
+        joint: &libero_model::Joint,
+        target: &JointTarget,
+        angle_deg: f64,
+    ) -> f64 {
+        if self.sent_rad_s.len() <= index {
+            self.sent_rad_s.resize(index + 1, 0.0);
+        }
+        let (lo, hi) = joint.limits_deg;
+        let margin = SIMSPARK_LIMIT_MARGIN_DEG.min((hi - lo) / 4.0);
+        let target_deg = target.q_deg.clamp(lo + margin, hi - margin);
+        let predicted_rad = angle_deg.to_radians() + self.sent_rad_s[index] * SIMSPARK_STEP_S;
+        let limit = joint.max_speed_deg.map_or(f64::INFINITY, f64::to_radians);
+        let v = target.kp * (target_deg.to_radians() - predicted_rad) / SIMSPARK_STEP_S;
+        let v = if v.is_finite() {
+            v.clamp(-limit, limit)
+        } else {
+            0.0
+        };
+        self.sent_rad_s[index] = v;
+        v
+    }
+}
 
 /// Write every joint's command (the server wipes motor state whenever anyone joins or
 /// leaves, so all joints go out every cycle), plus beam and say when asked.
@@ -17,6 +63,7 @@ pub fn write_actions(
     intent: &Intent,
     targets: &JointTargets,
     beam_now: bool,
+    servo: &mut VelocityServo,
     writer: &mut ActionWriter,
 ) {
     match model.server {
@@ -33,14 +80,14 @@ pub fn write_actions(
             }
         }
         ServerKind::SimSpark => {
-            for ((joint, t), angle) in model
+            for (index, ((joint, t), &angle)) in model
                 .joints
                 .iter()
                 .zip(&targets.joints)
                 .zip(&world.body.joint_angles)
+                .enumerate()
             {
-                let error_rad = (t.q_deg - angle).to_radians();
-                writer.joint_velocity(joint, SIMSPARK_POSITION_GAIN * error_rad);
+                writer.joint_velocity(joint, servo.command(index, joint, t, angle));
             }
         }
     }
@@ -74,6 +121,55 @@ pub fn beam_on_wire(server: ServerKind, side: Option<Side>, [x, y, theta]: [f64;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn nao_joint(name: &str) -> libero_model::Joint {
+        let model = RobotModel::builtin("nao_type0").unwrap();
+        model.joints[model.joint_id(name).unwrap()].clone()
+    }
+
+    fn target(q_deg: f64, kp: f64) -> JointTarget {
+        JointTarget {
+            q_deg,
+            dq_deg: 0.0,
+            kp,
+            kd: 0.0,
+            tau: 0.0,
+        }
+    }
+
+    #[test]
+    fn the_servo_closes_the_predicted_error_in_one_step_at_gain_one() {
+        let knee = nao_joint("left_knee");
+        let mut servo = VelocityServo::default();
+        // 2° to go from rest: 2° in one 20 ms step.
+        let v = servo.command(0, &knee, &target(-22.0, 1.0), -20.0);
+        assert!((v - (-2f64).to_radians() / 0.02).abs() < 1e-9, "{v}");
+        // The next percept still shows the old angle (the command acts a step later): the
+        // predicted angle is already the target, so nothing more is asked.
+        let v = servo.command(0, &knee, &target(-22.0, 1.0), -20.0);
+        assert!(v.abs() < 1e-9, "{v}");
+        // Half the gain, half the correction.
+        servo.reset();
+        let v = servo.command(0, &knee, &target(-22.0, 0.5), -20.0);
+        assert!((v - (-1f64).to_radians() / 0.02).abs() < 1e-9, "{v}");
+    }
+
+    #[test]
+    fn the_servo_stays_inside_the_range_and_the_speed_limit() {
+        let knee = nao_joint("left_knee");
+        let (lo, _) = knee.limits_deg;
+        let mut servo = VelocityServo::default();
+        // A target beyond the limit is held half a degree inside it.
+        let v = servo.command(0, &knee, &target(lo - 20.0, 1.0), lo + 0.2);
+        assert!(v > 0.0, "pushed into the limit: {v}");
+        // A far target asks for no more than the joint's top speed.
+        servo.reset();
+        let v = servo.command(0, &knee, &target(-120.0, 1.0), 0.0);
+        let top = knee.max_speed_deg.unwrap().to_radians();
+        assert!((v + top).abs() < 1e-9, "{v} vs {top}");
+        // A bad angle asks for nothing rather than sending a non-number.
+        assert_eq!(servo.command(0, &knee, &target(-30.0, 1.0), f64::NAN), 0.0);
+    }
 
     #[test]
     fn right_team_beam_mirrors_y_only_on_rcssservermj() {

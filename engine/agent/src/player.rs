@@ -1,6 +1,6 @@
 //! One agent's per-cycle pipeline, free of I/O.
 
-use crate::actuate::write_actions;
+use crate::actuate::{write_actions, VelocityServo};
 use crate::decide::Decider;
 use crate::skill_source::SkillSource;
 use crate::stats::AgentStats;
@@ -24,6 +24,7 @@ pub struct Player {
     decider: Box<dyn Decider>,
     writer: ActionWriter,
     targets: JointTargets,
+    servo: VelocityServo,
     intent: Intent,
     stats: Arc<AgentStats>,
     /// The play mode in which we last beamed: beam once per beam-allowing mode, because a
@@ -89,6 +90,7 @@ impl Player {
             skills,
             decider,
             targets,
+            servo: VelocityServo::default(),
             intent: Intent::default(),
             stats,
             beamed_in: None,
@@ -200,6 +202,7 @@ impl Player {
         let (team, unum) = (self.world.game.team.clone(), self.world.game.unum);
         self.world = World::new(&self.model, &team, unum);
         self.beamed_in = None;
+        self.servo.reset();
     }
 
     /// One cycle: read `payload`, decide, and append exactly one reply frame to `out`. A
@@ -335,6 +338,7 @@ impl Player {
             &self.intent,
             &self.targets,
             beam_now,
+            &mut self.servo,
             &mut self.writer,
         );
         self.writer.frame_into(out);

@@ -48,6 +48,10 @@ pub enum BodyIntent {
     /// fall detector starts the get-up. Holding the request after `Done` never dives again: a
     /// new save needs a cycle without one first.
     Dive { side: DiveSide },
+    /// Play a motion of the parameter file's `motions` from the measured angles, then hold
+    /// its last pose while still asked for. Nothing but a save interrupts it (the get-up
+    /// waits until it is no longer asked for).
+    Motion { id: crate::MotionId },
 }
 
 /// The head's task this cycle.

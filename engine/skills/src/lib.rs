@@ -9,6 +9,7 @@ mod gains;
 pub mod getup;
 pub mod intent;
 pub mod kick;
+mod motion;
 pub mod params;
 pub mod pose;
 pub mod save;
@@ -17,6 +18,7 @@ pub mod walk;
 pub use dribble::{DribbleParams, DribbleState};
 pub use intent::{BodyIntent, HeadIntent, Intent};
 pub use kick::{KickGeometry, KickParams, KickState};
+pub use motion::MotionId;
 pub use params::{ParamsError, SkillParams};
 pub use pose::{JointTarget, JointTargets};
 pub use save::{DiveSide, SaveParams, SaveState};
@@ -36,6 +38,8 @@ pub enum ActiveSkill {
     Dribble,
     /// A goalkeeper save (dive or block), or lying still after a dive until the get-up starts.
     Save,
+    /// A named motion of the parameter file (`BodyIntent::Motion`).
+    Motion,
 }
 
 /// What the skill layer is doing, for the decision layer.
@@ -81,6 +85,7 @@ pub struct Skills {
     dribble: dribble::Dribble,
     get_up: getup::GetUp,
     save: save::Save,
+    motion: motion::MotionPlayer,
     /// The pose a dive ended in, held while the robot lies and the request is still held
     /// (covering the line). Once it is dropped the stand pose is blended into while the body
     /// lies until the get-up starts: holding the end pose there instead stood 19 and 15 of 20
@@ -109,6 +114,7 @@ impl Skills {
             dribble: dribble::Dribble::default(),
             get_up: getup::GetUp::new().with_room(model.joints.len()),
             save: save::Save::new().with_room(model.joints.len()),
+            motion: motion::MotionPlayer::new(model.joints.len()),
             after_dive: None,
             gains: gains::GainTable::new(model, &params),
             save_motions: params.save.motions(),
@@ -211,6 +217,18 @@ impl Skills {
                 self.after_dive = Some((side, self.pose.clone()));
             }
         }
+        let motion_request = match intent.body {
+            BodyIntent::Motion { id } if !saving => Some(id),
+            _ => None,
+        };
+        let playing_motion = self.motion.update(
+            world,
+            motion_request,
+            &self.params.motions,
+            model,
+            &mut self.pose,
+        );
+        let saving = saving || playing_motion;
         let walk_params = &self.params.walk;
         let kick = match intent.body {
             _ if saving => {
@@ -273,7 +291,10 @@ impl Skills {
             );
         }
         let request = match intent.body {
-            BodyIntent::Stand | BodyIntent::GetUp | BodyIntent::Dive { .. } => None,
+            BodyIntent::Stand
+            | BodyIntent::GetUp
+            | BodyIntent::Dive { .. }
+            | BodyIntent::Motion { .. } => None,
             BodyIntent::Dribble { .. } => dribble,
             BodyIntent::Kick { .. } => match kick {
                 Some(kick::KickOutput::Walk(v)) => v,
@@ -320,7 +341,10 @@ impl Skills {
         {
             self.after_dive = None;
         }
-        let active = if saving {
+        let active = if playing_motion {
+            self.walk.reset();
+            ActiveSkill::Motion
+        } else if saving {
             self.walk.reset();
             ActiveSkill::Save
         } else if getting_up {
@@ -386,7 +410,10 @@ impl Skills {
         if std::mem::take(&mut self.stand_changed) && self.blend.is_none() {
             self.start_blend(world.time);
         }
-        if !matches!(active, ActiveSkill::GetUp | ActiveSkill::Save) {
+        if !matches!(
+            active,
+            ActiveSkill::GetUp | ActiveSkill::Save | ActiveSkill::Motion
+        ) {
             // The get-up and save motions start from the measured angles and must not be
             // softened.
             self.apply_blend(world.time);

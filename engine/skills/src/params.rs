@@ -34,6 +34,10 @@ pub struct SkillParams {
     /// Goalkeeper saves (dives, block); a file without them cannot save.
     #[serde(default)]
     pub save: SaveParams,
+    /// Named key-frame motions played on request (`BodyIntent::Motion`), e.g. the falls a
+    /// get-up trial starts from where the server cannot lay a robot down.
+    #[serde(default)]
+    pub motions: BTreeMap<String, Vec<crate::getup::Keyframe>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -131,6 +135,10 @@ impl SkillParams {
         self.kick.validate().map_err(invalid)?;
         self.dribble.validate().map_err(invalid)?;
         self.save.validate(model).map_err(invalid)?;
+        for (name, frames) in &self.motions {
+            crate::getup::validate_frames(&format!("motions.{name}"), frames, model, None)
+                .map_err(invalid)?;
+        }
         for motion in [&self.kick.short, &self.kick.long] {
             for joint in motion.swing_gains.keys() {
                 if model.joint_id(&format!("left_{joint}")).is_none()
@@ -144,6 +152,12 @@ impl SkillParams {
             }
         }
         Ok(())
+    }
+
+    /// The motion of `motions` called `name`.
+    pub fn motion_id(&self, name: &str) -> Option<crate::MotionId> {
+        let index = self.motions.keys().position(|n| n == name)?;
+        u16::try_from(index).ok().map(crate::MotionId)
     }
 
     /// The stand pose as one angle per model joint.

@@ -6,7 +6,8 @@
 //! name> <lo> <hi>` (one joint), `u <frame> <lo> <hi>` (the frame's `until` threshold, kind
 //! kept), `b <ankle_per_deg|ankle_per_gyro|hip_per_deg|hip_per_gyro> <lo> <hi>` (balance
 //! gain), `l <frame> <lo> <hi>` (the frame's `balance_pitch_deg`). Each candidate runs `PLACEMENTS` (default 2) varied
-//! placements; the best key frames so far are printed after every generation.
+//! placements; the best key frames so far are printed after every generation. `ROBOT=nao_type0`
+//! searches on SimSpark.
 use libero_skills::getup::{Condition, Keyframe, Lying};
 use libero_skills::SkillParams;
 use libero_trial::cmaes::CmaEs;
@@ -27,7 +28,13 @@ struct Dim {
     hi: f64,
 }
 
-const MIRRORED: [&str; 4] = ["shoulder_roll", "elbow_yaw", "hip_roll", "ankle_roll"];
+const MIRRORED: [&str; 5] = [
+    "shoulder_roll",
+    "elbow_yaw",
+    "elbow_roll",
+    "hip_roll",
+    "ankle_roll",
+];
 
 fn parse_spec(text: &str) -> (Lying, Vec<Dim>) {
     let mut side = Lying::Back;
@@ -212,7 +219,12 @@ fn print_motion(p: &mut SkillParams, side: Lying) {
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
-    let mut trial = Trial::start().unwrap();
+    // ROBOT=nao_type0 searches a NAO's get-up on SimSpark (default: the T1).
+    let robot = std::env::var("ROBOT").unwrap_or_else(|_| "T1".into());
+    let mut trial = Trial::start_on(std::sync::Arc::new(
+        libero_model::RobotModel::builtin(&robot).unwrap(),
+    ))
+    .unwrap();
     let model = trial.model().clone();
     let mut base = SkillParams::load(std::path::Path::new(&a[1]), &model).unwrap();
     let (side, dims) = parse_spec(&std::fs::read_to_string(&a[2]).unwrap());

@@ -11,7 +11,12 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(0.0);
-    let mut trial = Trial::start().unwrap();
+    // ROBOT=nao_type3 walks a NAO on SimSpark (default: the T1).
+    let robot = std::env::var("ROBOT").unwrap_or_else(|_| "T1".into());
+    let mut trial = Trial::start_on(std::sync::Arc::new(
+        libero_model::RobotModel::builtin(&robot).unwrap(),
+    ))
+    .unwrap();
     let model = trial.model().clone();
     let params = match a.get(5) {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),

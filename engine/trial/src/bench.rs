@@ -2,7 +2,7 @@
 
 use crate::course::Course;
 use crate::episode::{start_point, Episode, Recording, Trial, TrialError};
-use crate::measure::mean_velocity;
+use crate::measure::{localization_error, mean_velocity, LocalizationError};
 use libero_skills::{BodyIntent, Intent, SkillParams};
 
 /// Seconds at the start of a measurement that are left out (the walk accelerating).
@@ -19,6 +19,8 @@ pub struct Figure {
     pub distance: f64,
     /// Seconds until the first fall, if any.
     pub fell_at: Option<f64>,
+    /// The agent's own localization over the whole walk, against the ground truth.
+    pub localization: Option<LocalizationError>,
 }
 
 /// `stopped_early`: the script ended before its time and goal, which it only does when the
@@ -32,6 +34,7 @@ fn figure(rec: &Recording, axis: usize, stopped_early: bool) -> Figure {
         seconds,
         distance: v[axis] * seconds,
         fell_at: rec.first_fall_s().or(stopped_early.then_some(end)),
+        localization: localization_error(rec),
     }
 }
 
@@ -133,14 +136,23 @@ pub fn turning(
     Ok(figure(&rec, 2, early))
 }
 
-/// A course of random commands changing every 2–5 s. Returns the seconds walked and the time
-/// of the first fall (the walk does not continue after a fall).
+/// How a random course went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CourseFigure {
+    /// Seconds walked (the walk does not continue after a fall).
+    pub walked_s: f64,
+    /// Seconds until the first fall, if any.
+    pub fell_at: Option<f64>,
+    pub localization: Option<LocalizationError>,
+}
+
+/// A course of random commands changing every 2–5 s.
 pub fn random_course(
     trial: &mut Trial,
     params: &SkillParams,
     seconds: f64,
     seed: u64,
-) -> Result<(f64, Option<f64>), TrialError> {
+) -> Result<CourseFigure, TrialError> {
     let w = &params.walk;
     let course = Course::random(
         seconds,
@@ -157,8 +169,12 @@ pub fn random_course(
         },
     )?;
     let walked = rec.samples.last().map_or(0.0, |s| s.t);
-    let fell = rec
+    let fell_at = rec
         .first_fall_s()
         .or((walked < seconds - 0.1).then_some(walked));
-    Ok((walked, fell))
+    Ok(CourseFigure {
+        walked_s: walked,
+        fell_at,
+        localization: localization_error(&rec),
+    })
 }

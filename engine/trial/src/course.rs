@@ -231,6 +231,8 @@ mod tests {
                 tilt_deg: 0.0,
                 posture: libero_world::Posture::Upright,
                 low: false,
+                tall: true,
+                estimate: None,
             });
             let [f, s, w] = velocity(t);
             let r = yaw.to_radians();

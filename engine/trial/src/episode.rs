@@ -4,7 +4,7 @@ use libero_agent::{run_agent, AgentConfig, AgentStats, Decider, Player};
 use libero_model::RobotModel;
 use libero_server::{Monitor, ServerKind, ServerOptions, ServerProcess};
 use libero_skills::getup::Lying;
-use libero_skills::{Intent, SkillParams, SkillStatus, Skills};
+use libero_skills::{BodyIntent, Intent, MotionId, SkillParams, SkillStatus, Skills};
 use libero_world::{Posture, World};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
@@ -49,6 +49,12 @@ pub struct Sample {
     pub posture: Posture,
     /// The torso below [`FALLEN_SHARE_OF_STANDING`] of the robot's standing height.
     pub low: bool,
+    /// The torso at least [`STOOD_SHARE_OF_STANDING`] of the robot's standing height (a
+    /// get-up has stood once it is this high and upright).
+    pub tall: bool,
+    /// Where the agent believed it was (global x, y [m]), once localized: compared with
+    /// `position`, the localization error.
+    pub estimate: Option<[f64; 2]>,
 }
 
 impl Sample {
@@ -64,6 +70,10 @@ pub const FALLEN_TORSO_Z_M: f64 = 0.4;
 /// A torso below this share of the model's standing height has fallen (the T1's 0.4 m of
 /// 0.67 m).
 pub const FALLEN_SHARE_OF_STANDING: f64 = 0.6;
+
+/// A torso at least this share of the model's standing height stands (the T1's 0.6 m of
+/// 0.67 m; its stand pose holds 0.66 m, lying below 0.3 m).
+pub const STOOD_SHARE_OF_STANDING: f64 = 0.89;
 
 /// Everything recorded during the script.
 #[derive(Debug, Clone, Default)]
@@ -315,11 +325,14 @@ impl Trial {
                 self.model.standing_torso_height + 0.01,
                 heading - 90.0
             ),
-            Some(_) if simspark => {
-                return Err(TrialError::Unsupported(
-                    "lying placements (SimSpark has no `move3d`)",
-                ))
-            }
+            // No placement with a whole orientation: the robot is placed standing and falls
+            // by a motion of its own (`motions.fall_front` / `fall_back`); the roll is
+            // whatever the fall leaves.
+            Some(_) if simspark => format!(
+                "(playMode PlayOn)(agent (unum {UNUM}) (team Left) (move {x} {y} {} {}))",
+                self.model.standing_torso_height + 0.01,
+                heading - 90.0
+            ),
             None => format!(
                 "(agent (unum {UNUM}) (team Left) (move {x} {y} {PLACE_TORSO_Z_M} {heading}))"
             ),
@@ -329,14 +342,38 @@ impl Trial {
             }
         };
         let low_below_m = self.model.standing_torso_height * FALLEN_SHARE_OF_STANDING;
+        let fall = match episode.lying {
+            Some(lying) if simspark => {
+                let name = match lying.side {
+                    Lying::Front => "fall_front",
+                    Lying::Back => "fall_back",
+                };
+                let motion = params.motion_id(name).ok_or(TrialError::Unsupported(
+                    "lying placements on SimSpark without the parameter file's `motions.fall_front` and `motions.fall_back` (it has no `move3d`: the robot falls by itself)",
+                ))?;
+                Some(Fall {
+                    motion,
+                    lying_since: None,
+                })
+            }
+            _ => None,
+        };
         let decider = ScriptedDecider {
             low_below_m,
+            tall_from_m: self.model.standing_torso_height * STOOD_SHARE_OF_STANDING,
             script: episode.script,
             settle_s: episode.settle_s,
             recording: Arc::clone(&recording),
             shutdown: Arc::clone(&shutdown),
             placed_at: None,
+            fall,
             place_command: Some(place),
+            // SimSpark ignores a placement of a robot whose init has not yet taken effect,
+            // and the agent cannot tell it from its percepts: the monitor's truth confirms it.
+            confirm: simspark.then_some(Confirm {
+                at: [x, y],
+                sends: 1,
+            }),
             monitor: Arc::clone(&self.monitor),
             status: Arc::clone(&self.status),
         };
@@ -382,19 +419,70 @@ impl Trial {
     }
 }
 
+/// A robot placed standing that must fall before its episode starts (SimSpark).
+struct Fall {
+    motion: MotionId,
+    /// Since when the torso has lain low and still.
+    lying_since: Option<f64>,
+}
+
+/// Standing this long after the placement before the fall motion starts [s].
+const FALL_AFTER_S: f64 = 0.5;
+/// Lying counts as still below this body rate [deg/s] held for this long [s].
+const LYING_STILL_DEG_S: f64 = 20.0;
+const LYING_STILL_FOR_S: f64 = 0.5;
+/// A fall that has not laid the robot down by now has failed [s].
+const FALL_TIMEOUT_S: f64 = 8.0;
+
 /// Decisions from a script, with placement, settling and recording around it.
 struct ScriptedDecider<S> {
     /// Torso heights below this are a fall [m].
     low_below_m: f64,
+    /// ... and from this up the robot stands [m].
+    tall_from_m: f64,
     script: S,
     settle_s: f64,
     recording: Arc<Mutex<Recording>>,
     shutdown: Arc<AtomicBool>,
-    /// Server time at which the placement was sent.
+    /// Server time at which the placement was sent (after a fall: at which it lay still).
     placed_at: Option<f64>,
+    /// Still to fall before the episode starts.
+    fall: Option<Fall>,
     place_command: Option<String>,
+    /// Where the placement must show in the ground truth before the episode goes on.
+    confirm: Option<Confirm>,
     monitor: Arc<Mutex<Monitor>>,
     status: Arc<Mutex<SkillStatus>>,
+}
+
+/// A placement still to be seen in the ground truth.
+struct Confirm {
+    at: [f64; 2],
+    sends: u32,
+}
+
+/// The placed torso within this of its target counts as placed [m] (SimSpark's `move` is
+/// exact; a robot that was not moved is metres away).
+const PLACED_WITHIN_M: f64 = 0.1;
+/// A placement not seen after this is sent again [s] (the monitor reads commands every 40 ms
+/// and reports every 40 ms).
+const PLACEMENT_SHOWS_WITHIN_S: f64 = 0.3;
+const PLACEMENT_SENDS: u32 = 10;
+
+impl<S> ScriptedDecider<S> {
+    fn send_placement(&mut self) {
+        let Some(command) = self.place_command.as_deref() else {
+            return;
+        };
+        let sent = match self.monitor.lock() {
+            Ok(mut m) => m.send(command),
+            Err(_) => Err(std::io::Error::other("monitor lock poisoned")),
+        };
+        if let Err(e) = sent {
+            log::error!("trial: cannot place the robot: {e}");
+            self.shutdown.store(true, Ordering::Relaxed);
+        }
+    }
 }
 
 impl<S> Decider for ScriptedDecider<S>
@@ -403,24 +491,73 @@ where
 {
     fn decide(&mut self, world: &World) -> Intent {
         let stand = Intent::default();
-        if let Some(command) = self.place_command.take() {
-            let sent = match self.monitor.lock() {
-                Ok(mut m) => m.send(&command),
-                Err(_) => Err(std::io::Error::other("monitor lock poisoned")),
-            };
-            match sent {
-                Ok(()) => {}
-                Err(e) => {
-                    log::error!("trial: cannot place the robot: {e}");
-                    self.shutdown.store(true, Ordering::Relaxed);
-                }
+        if self.placed_at.is_none() {
+            // The side known: the server has taken the init, so it knows whom to place.
+            if self.confirm.is_some() && world.game.side.is_none() {
+                return stand;
             }
+            self.send_placement();
             self.placed_at = Some(world.time);
             return stand;
         }
         let Some(placed) = self.placed_at else {
             return stand;
         };
+        if let Some(confirm) = self.confirm.as_mut() {
+            let there = world.truth.torso_position.is_some_and(|p| {
+                (p[0] - confirm.at[0]).hypot(p[1] - confirm.at[1]) < PLACED_WITHIN_M
+            });
+            if there {
+                // Settling counts from here.
+                self.confirm = None;
+                self.placed_at = Some(world.time);
+            } else if world.time - placed > PLACEMENT_SHOWS_WITHIN_S {
+                if confirm.sends >= PLACEMENT_SENDS {
+                    log::error!(
+                        "trial: the robot was not placed at {:?} after {PLACEMENT_SENDS} tries",
+                        confirm.at
+                    );
+                    self.shutdown.store(true, Ordering::Relaxed);
+                } else {
+                    confirm.sends += 1;
+                    self.send_placement();
+                    self.placed_at = Some(world.time);
+                }
+            }
+            return stand;
+        }
+        if let Some(fall) = self.fall.as_mut() {
+            let motion = fall.motion;
+            let since = world.time - placed;
+            if since < FALL_AFTER_S {
+                return stand;
+            }
+            let low = world
+                .truth
+                .torso_position
+                .is_some_and(|p| p[2] < self.low_below_m);
+            let [gx, gy, gz] = world.body.gyro;
+            let still = (gx * gx + gy * gy + gz * gz).sqrt() < LYING_STILL_DEG_S;
+            fall.lying_since = (low && still).then(|| fall.lying_since.unwrap_or(world.time));
+            if fall
+                .lying_since
+                .is_some_and(|t| world.time - t >= LYING_STILL_FOR_S)
+            {
+                // The episode starts now, from lying still.
+                self.fall = None;
+                self.placed_at = Some(world.time);
+            } else if since > FALL_TIMEOUT_S {
+                log::error!(
+                    "trial: the fall motion did not lay the robot down in {FALL_TIMEOUT_S} s"
+                );
+                self.shutdown.store(true, Ordering::Relaxed);
+                return stand;
+            }
+            return Intent {
+                body: BodyIntent::Motion { id: motion },
+                ..Intent::default()
+            };
+        }
         let t = world.time - placed - self.settle_s;
         if t < 0.0 {
             return stand;
@@ -433,7 +570,8 @@ where
             }
         };
         if let Ok(mut r) = self.recording.lock() {
-            r.samples.push(sample(world, t, self.low_below_m));
+            r.samples
+                .push(sample(world, t, self.low_below_m, self.tall_from_m));
             r.intents.push(intent.clone());
         }
         intent
@@ -446,7 +584,7 @@ where
     }
 }
 
-fn sample(world: &World, t: f64, low_below_m: f64) -> Sample {
+fn sample(world: &World, t: f64, low_below_m: f64, tall_from_m: f64) -> Sample {
     let position = world.truth.torso_position.unwrap_or([f64::NAN; 3]);
     let [w, x, y, z] = world.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
     let yaw_deg = (2.0 * (w * z + x * y))
@@ -469,6 +607,8 @@ fn sample(world: &World, t: f64, low_below_m: f64) -> Sample {
         tilt_deg,
         posture: world.body.posture,
         low: position[2] < low_below_m,
+        tall: position[2] >= tall_from_m,
+        estimate: world.me.localized.then_some(world.me.position),
     }
 }
 

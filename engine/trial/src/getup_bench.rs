@@ -16,10 +16,8 @@ pub struct Placement {
     pub start: [f64; 3],
 }
 
-/// Torso at least this high counts as standing (the stand pose holds it at about 0.66 m,
-/// lying puts it below 0.3 m).
-pub const STANDING_TORSO_Z_M: f64 = 0.60;
-/// ... with the torso's long axis at most this far from the vertical [deg].
+/// Standing: the torso high (`Sample::tall`) with its long axis at most this far from the
+/// vertical [deg].
 pub const STANDING_TILT_DEG: f64 = 20.0;
 /// Standing must last this long to count [s].
 pub const STANDING_HOLD_S: f64 = 1.5;
@@ -59,7 +57,7 @@ pub fn varied_placements(side: Lying, n: usize, seed: u64) -> Vec<Placement> {
 
 /// Whether a sample shows the robot standing: torso high and upright.
 pub fn standing(s: &Sample) -> bool {
-    s.position[2] >= STANDING_TORSO_Z_M && s.tilt_deg <= STANDING_TILT_DEG
+    s.tall && s.tilt_deg <= STANDING_TILT_DEG
 }
 
 /// When the robot first stood and then kept standing for `hold_s` (the recording must cover
@@ -225,6 +223,8 @@ mod tests {
             tilt_deg: tilt,
             posture: Posture::Upright,
             low: z < crate::episode::FALLEN_TORSO_Z_M,
+            tall: z >= 0.6,
+            estimate: None,
         }
     }
 

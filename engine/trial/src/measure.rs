@@ -51,6 +51,45 @@ pub fn forward_distance(rec: &Recording) -> f64 {
         + (last.position[1] - first.position[1]) * h.sin()
 }
 
+/// The agent's self-localization against the ground truth over a recording: the distance on
+/// the ground between its estimate and its torso in every sample where it had one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalizationError {
+    pub median_m: f64,
+    pub p90_m: f64,
+    pub max_m: f64,
+    /// Samples compared (those with an estimate and a true position).
+    pub samples: usize,
+    /// Share of the samples with no estimate (not yet localized, or lost).
+    pub unlocalized_share: f64,
+}
+
+/// `None` when no sample has both an estimate and a true position.
+pub fn localization_error(rec: &Recording) -> Option<LocalizationError> {
+    let mut errors: Vec<f64> = rec
+        .samples
+        .iter()
+        .filter_map(|s| {
+            let e = s.estimate?;
+            let d = (e[0] - s.position[0]).hypot(e[1] - s.position[1]);
+            d.is_finite().then_some(d)
+        })
+        .collect();
+    if errors.is_empty() {
+        return None;
+    }
+    errors.sort_by(f64::total_cmp);
+    let at = |q: f64| errors[((errors.len() - 1) as f64 * q).round() as usize];
+    Some(LocalizationError {
+        median_m: at(0.5),
+        p90_m: at(0.9),
+        max_m: at(1.0),
+        samples: errors.len(),
+        unlocalized_share: rec.samples.iter().filter(|s| s.estimate.is_none()).count() as f64
+            / rec.samples.len() as f64,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -66,7 +105,28 @@ mod tests {
             tilt_deg: 0.0,
             posture: Posture::Upright,
             low: false,
+            tall: true,
+            estimate: None,
         }
+    }
+
+    #[test]
+    fn localization_error_is_the_ground_distance_to_the_estimate() {
+        let mut samples: Vec<Sample> = (0..5).map(|i| s(f64::from(i), 1.0, 2.0, 0.0)).collect();
+        for (i, sample) in samples.iter_mut().enumerate().skip(1) {
+            // Errors 0.1, 0.2, 0.3, 0.4 m (3-4-5 triangles), the first sample unlocalized.
+            let d = 0.1 * i as f64;
+            sample.estimate = Some([1.0 + 0.6 * d, 2.0 - 0.8 * d]);
+        }
+        let e = localization_error(&Recording {
+            samples,
+            intents: Vec::new(),
+        })
+        .unwrap();
+        assert_eq!(e.samples, 4);
+        assert!((e.median_m - 0.3).abs() < 1e-9, "{e:?}");
+        assert!((e.max_m - 0.4).abs() < 1e-9, "{e:?}");
+        assert!((e.unlocalized_share - 0.2).abs() < 1e-9, "{e:?}");
     }
 
     #[test]

@@ -32,8 +32,8 @@ pub enum Measure {
 #[derive(Args)]
 pub struct BenchArgs {
     pub what: Measure,
-    /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark; `walk` only
-    /// so far) [default: T1, or nao_type0 with `--server simspark`].
+    /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark; `walk` and
+    /// `getup` so far) [default: T1, or nao_type0 with `--server simspark`].
     #[arg(long)]
     pub robot: Option<String>,
     /// The server; the robot's own by default (a NAO type plays on SimSpark).
@@ -72,10 +72,11 @@ pub fn run(args: BenchArgs) -> CliResult {
         return Err(format!("{robot} does not play on that server (--server, --robot)").into());
     }
     let simspark = model.server == ServerKind::SimSpark;
-    if simspark && !matches!(args.what, Measure::Walk) {
-        return Err(
-            format!("only `libero bench walk` runs on SimSpark so far (robot {robot})").into(),
-        );
+    if simspark && !matches!(args.what, Measure::Walk | Measure::GetUp) {
+        return Err(format!(
+            "only `libero bench walk` and `getup` run on SimSpark so far (robot {robot})"
+        )
+        .into());
     }
     let params = match &args.params {
         Some(path) => SkillParams::load(path, &model)?,
@@ -83,7 +84,7 @@ pub fn run(args: BenchArgs) -> CliResult {
     };
     match args.what {
         Measure::Walk => bench_walk(&params, &args, model),
-        Measure::GetUp => bench_get_up(&params, &args),
+        Measure::GetUp => bench_get_up(&params, &args, model),
         Measure::Kick => bench_kick(&params, &args),
         Measure::Cycle => {
             let play_s = if args.short { 10.0 } else { args.duration };
@@ -124,19 +125,34 @@ fn bench_walk(params: &SkillParams, args: &BenchArgs, model: RobotModel) -> CliR
     println!("sideways {:.2} m/s ({})", s.speed, fall_note(s.fell_at));
     let t = bench::turning(&mut trial, params, seconds)?;
     println!("turn {:.0} deg/s ({})", t.speed, fall_note(t.fell_at));
-    let (walked, fell) = bench::random_course(&mut trial, params, course_s, args.seed)?;
+    let c = bench::random_course(&mut trial, params, course_s, args.seed)?;
     println!(
-        "course {:.0} s of random commands: {} falls ({walked:.0} s walked{})",
+        "course {:.0} s of random commands: {} falls ({:.0} s walked{})",
         course_s,
-        usize::from(fell.is_some()),
-        fell.map_or(String::new(), |t| format!(", fell at {t:.1} s"))
+        usize::from(c.fell_at.is_some()),
+        c.walked_s,
+        c.fell_at
+            .map_or(String::new(), |t| format!(", fell at {t:.1} s"))
     );
+    for (what, e) in [("forward", &f.localization), ("course", &c.localization)] {
+        if let Some(e) = e {
+            println!(
+                "localization while walking ({what}): median {:.3} m, 90 % {:.3} m, max {:.3} m \
+                 over {} cycles ({:.0} % of the walk unlocalized)",
+                e.median_m,
+                e.p90_m,
+                e.max_m,
+                e.samples,
+                100.0 * e.unlocalized_share
+            );
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }
 
-fn bench_get_up(params: &SkillParams, args: &BenchArgs) -> CliResult {
+fn bench_get_up(params: &SkillParams, args: &BenchArgs, model: RobotModel) -> CliResult {
     let runs = if args.short { 3 } else { 20 };
-    let mut trial = Trial::start()?;
+    let mut trial = Trial::start_on(std::sync::Arc::new(model))?;
     for (name, side) in [("front", Lying::Front), ("back", Lying::Back)] {
         let mut done = Vec::new();
         for placement in getup_bench::varied_placements(side, runs, args.seed) {

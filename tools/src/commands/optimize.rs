@@ -14,8 +14,9 @@ use libero_trial::optimize::{
     Tunable, WalkObjective, DEFAULT_WALK_TUNABLES,
 };
 use libero_trial::{Course, TrialError};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Skill {
@@ -59,9 +60,13 @@ impl CourseKind {
 #[derive(Args)]
 pub struct ObjectiveArgs {
     pub skill: Skill,
-    /// The parameter file to start from (and, for `optimize`, to write the best back to).
-    #[arg(long, default_value_os_t = default_params_file())]
-    pub params: PathBuf,
+    /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark).
+    #[arg(long, default_value = "T1")]
+    pub robot: String,
+    /// The parameter file to start from (and, for `optimize`, to write the best back to);
+    /// default: the robot's shipped one (`engine/skills/params/t1.ron`, `nao.ron`).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     #[arg(long, value_enum, default_value_t = CourseKind::Bars)]
@@ -118,17 +123,35 @@ pub struct EvaluateArgs {
     pub report: PathBuf,
 }
 
-fn default_params_file() -> PathBuf {
-    libero_server::venv::project_root().join("engine/skills/params/t1.ron")
+impl ObjectiveArgs {
+    fn model(&self) -> Result<Arc<RobotModel>, libero_model::ModelError> {
+        RobotModel::builtin(&self.robot).map(Arc::new)
+    }
+
+    /// The parameter file searched from: `--params`, or the robot's shipped one.
+    fn params_file(&self, model: &RobotModel) -> PathBuf {
+        self.params.clone().unwrap_or_else(|| {
+            libero_server::venv::project_root()
+                .join("engine/skills/params")
+                .join(SkillParams::file_name(model))
+        })
+    }
 }
 
-/// The start parameters, the searched tunables and the objective.
-type Search = (SkillParams, Vec<Tunable>, Box<dyn Objective>);
+/// The robot, the start parameters and their file, the searched tunables and the objective.
+struct Search {
+    model: Arc<RobotModel>,
+    params_file: PathBuf,
+    start: SkillParams,
+    tunables: Vec<Tunable>,
+    objective: Box<dyn Objective>,
+}
 
 /// The search `args` describe.
 fn setup(args: &ObjectiveArgs) -> Result<Search, Box<dyn std::error::Error>> {
-    let model = RobotModel::builtin("T1")?;
-    let start = SkillParams::load(&args.params, &model)?;
+    let model = args.model()?;
+    let params_file = args.params_file(&model);
+    let start = SkillParams::load(&params_file, &model)?;
     let mut names: Vec<&str> = args.tunables.iter().map(String::as_str).collect();
     let w = &start.walk;
     let limits = [w.max_forward_m_s, w.max_sideways_m_s, w.max_turn_deg_s];
@@ -147,7 +170,7 @@ fn setup(args: &ObjectiveArgs) -> Result<Search, Box<dyn std::error::Error>> {
                 CourseKind::Forward => vec![Course::rising(w.max_forward_m_s, 15.0)],
             };
             (
-                select_walk_tunables(&names)?,
+                select_walk_tunables(&names, &model)?,
                 Box::new(WalkObjective { courses }),
             )
         }
@@ -164,12 +187,24 @@ fn setup(args: &ObjectiveArgs) -> Result<Search, Box<dyn std::error::Error>> {
             )
         }
     };
-    Ok((start, tunables, objective))
+    Ok(Search {
+        model,
+        params_file,
+        start,
+        tunables,
+        objective,
+    })
 }
 
 pub fn run(args: OptimizeArgs) -> CliResult {
-    let (start, tunables, objective) = setup(&args.objective)?;
-    let start_text = std::fs::read_to_string(&args.objective.params)?;
+    let Search {
+        model,
+        params_file,
+        start,
+        tunables,
+        objective,
+    } = setup(&args.objective)?;
+    let start_text = std::fs::read_to_string(&params_file)?;
     let options = Options {
         generations: args.generations,
         population: args.population,
@@ -180,17 +215,19 @@ pub fn run(args: OptimizeArgs) -> CliResult {
             .map(|m| std::time::Duration::from_secs_f64(m.max(0.0) * 60.0)),
         checkpoint: args.checkpoint.clone(),
         identity: format!(
-            "{}; {}; start file {:016x}",
+            "{} of {}; {}; start file {:016x}",
             args.objective.skill.as_arg(),
+            model.name,
             objective.explain(),
             fnv1a(start_text.as_bytes())
         ),
     };
-    let params_path = &args.objective.params;
+    let params_path = &params_file;
     let mut evaluator: Box<dyn Evaluator> = match &args.executor.ray {
-        Some(_) => Box::new(FleetEvaluator::start(&args, &tunables)?),
+        Some(_) => Box::new(FleetEvaluator::start(&args, params_path, &tunables)?),
         None => Box::new(LocalServers::start(
             args.executor.parallel,
+            &model,
             objective.as_ref(),
         )?),
     };
@@ -254,7 +291,6 @@ pub fn run(args: OptimizeArgs) -> CliResult {
     } else if args.dry_run {
         println!("dry run: {} left as it is", params_path.display());
     } else {
-        let model = RobotModel::builtin("T1")?;
         let written = write_back(&start_text, &outcome.best, &tunables)?;
         SkillParams::from_ron(&params_path.display().to_string(), &written, &model)?;
         std::fs::write(params_path, written)?;
@@ -264,7 +300,13 @@ pub fn run(args: OptimizeArgs) -> CliResult {
 }
 
 pub fn evaluate(args: EvaluateArgs) -> CliResult {
-    let (start, tunables, objective) = setup(&args.objective)?;
+    let Search {
+        model,
+        start,
+        tunables,
+        objective,
+        ..
+    } = setup(&args.objective)?;
     let mut candidate = start;
     for pair in &args.values {
         let (name, value) = pair
@@ -279,7 +321,7 @@ pub fn evaluate(args: EvaluateArgs) -> CliResult {
             .map_err(|_| format!("--set {pair}: {value} is not a number"))?;
         (tunable.set)(&mut candidate, value);
     }
-    let mut servers = LocalServers::start(1, objective.as_ref())?;
+    let mut servers = LocalServers::start(1, &model, objective.as_ref())?;
     let cost = servers.costs(std::slice::from_ref(&candidate))?[0];
     let json = serde_json::json!({ "cost": cost });
     std::fs::write(&args.report, format!("{json}\n"))
@@ -299,9 +341,13 @@ struct FleetEvaluator {
 }
 
 impl FleetEvaluator {
-    fn start(args: &OptimizeArgs, tunables: &[Tunable]) -> Result<Self, String> {
+    fn start(
+        args: &OptimizeArgs,
+        params_file: &Path,
+        tunables: &[Tunable],
+    ) -> Result<Self, String> {
         let o = &args.objective;
-        let bundle = Bundle::stage(&[(o.params.as_path(), "optimize/start.ron")])?;
+        let bundle = Bundle::stage(&[(params_file, "optimize/start.ron")])?;
         let executor = args.executor.start(&bundle)?;
         println!("evaluations on {}", executor.describe());
         let seeds: Vec<String> = o.course_seeds.iter().map(u64::to_string).collect();
@@ -309,6 +355,8 @@ impl FleetEvaluator {
         let base = vec![
             "evaluate".into(),
             o.skill.as_arg().into(),
+            "--robot".into(),
+            o.robot.clone(),
             "--params".into(),
             "optimize/start.ron".into(),
             "--seed".into(),

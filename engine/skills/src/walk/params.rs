@@ -112,14 +112,15 @@ pub(crate) fn in_range(path: &str, value: f64, lo: f64, hi: f64) -> Check {
 }
 
 impl WalkParams {
-    /// Every field within physically sensible bounds for a humanoid of the T1's size.
+    /// Every field within physically sensible bounds for a humanoid from the NAO's size (0.385 m
+    /// standing torso height) to the T1's (0.67 m).
     pub fn validate(&self) -> Check {
         let w = "walk";
         in_range(&format!("{w}.step_period_s"), self.step_period_s, 0.1, 1.0)?;
         in_range(
             &format!("{w}.torso_height_m"),
             self.torso_height_m,
-            0.3,
+            0.2,
             0.7,
         )?;
         in_range(
@@ -137,7 +138,7 @@ impl WalkParams {
         in_range(
             &format!("{w}.foot_y_offset_m"),
             self.foot_y_offset_m,
-            0.05,
+            0.03,
             0.2,
         )?;
         in_range(&format!("{w}.step_height_m"), self.step_height_m, 0.0, 0.15)?;

@@ -115,7 +115,11 @@ mod tests {
     fn a_run_cut_short_and_resumed_ends_where_an_uncut_run_ends() {
         let model = libero_model::RobotModel::builtin("T1").unwrap();
         let start = SkillParams::builtin(&model).unwrap();
-        let tunables = select_walk_tunables(&["step_period_s", "step_height_m"]).unwrap();
+        let tunables = select_walk_tunables(
+            &["step_period_s", "step_height_m"],
+            &libero_model::RobotModel::builtin("T1").unwrap(),
+        )
+        .unwrap();
         let dir = tempfile::tempdir().unwrap();
         let whole = dir.path().join("whole.json");
         let uncut = optimize(

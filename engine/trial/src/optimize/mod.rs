@@ -11,8 +11,9 @@ pub mod walk;
 
 use crate::cmaes::CmaEs;
 use crate::episode::{Trial, TrialError};
+use libero_model::RobotModel;
 use libero_skills::SkillParams;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 pub use walk::{select_walk_tunables, walk_tunables, WalkObjective, DEFAULT_WALK_TUNABLES};
 
@@ -129,9 +130,14 @@ pub struct LocalServers<'a> {
 }
 
 impl<'a> LocalServers<'a> {
-    pub fn start(servers: usize, objective: &'a dyn Objective) -> Result<Self, TrialError> {
+    /// `servers` fast-mode servers of `model`'s kind, each with an agent of that robot.
+    pub fn start(
+        servers: usize,
+        model: &Arc<RobotModel>,
+        objective: &'a dyn Objective,
+    ) -> Result<Self, TrialError> {
         let trials = (0..servers.max(1))
-            .map(|_| Trial::start())
+            .map(|_| Trial::start_on(Arc::clone(model)))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self { trials, objective })
     }
@@ -341,6 +347,10 @@ fn find_field(text: &str, from: usize, field: &str) -> Option<usize> {
 mod tests {
     use super::*;
 
+    fn t1() -> RobotModel {
+        RobotModel::builtin("T1").unwrap()
+    }
+
     #[test]
     fn write_back_changes_only_the_tuned_numbers() {
         let model = libero_model::RobotModel::builtin("T1").unwrap();
@@ -348,7 +358,7 @@ mod tests {
         let mut p = SkillParams::builtin(&model).unwrap();
         p.walk.step_period_s = 0.3125;
         p.walk.balance.ankle_pitch_per_gyro = -0.05;
-        let written = write_back(text, &p, &walk_tunables()).unwrap();
+        let written = write_back(text, &p, &walk_tunables(&t1())).unwrap();
         let again = SkillParams::from_ron("w.ron", &written, &model).unwrap();
         assert_eq!(again.walk.step_period_s, 0.3125);
         assert_eq!(again.walk.balance.ankle_pitch_per_gyro, -0.05);
@@ -377,10 +387,10 @@ mod tests {
 
     #[test]
     fn selects_tunables_by_name_and_names_the_known_ones_on_a_typo() {
-        let picked = select_walk_tunables(&DEFAULT_WALK_TUNABLES).unwrap();
+        let picked = select_walk_tunables(&DEFAULT_WALK_TUNABLES, &t1()).unwrap();
         let names: Vec<&str> = picked.iter().map(|t| t.name).collect();
         assert_eq!(names, DEFAULT_WALK_TUNABLES);
-        let err = select_walk_tunables(&["step_period"]).err().unwrap();
+        let err = select_walk_tunables(&["step_period"], &t1()).err().unwrap();
         assert!(err.contains("step_period_s"), "{err}");
     }
 }
