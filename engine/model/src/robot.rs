@@ -15,6 +15,16 @@ pub enum ServerKind {
     SimSpark,
 }
 
+impl ServerKind {
+    /// The built-in field this server plays on by default (`engine/model/fields/`).
+    pub fn default_field(self) -> &'static str {
+        match self {
+            ServerKind::RcssMj => "fifa7vs7",
+            ServerKind::SimSpark => "simspark",
+        }
+    }
+}
+
 impl std::str::FromStr for ServerKind {
     type Err = String;
     /// `rcssservermj` (also `mj`) or `simspark` (also `rcssserver3d`), as the command line names them.

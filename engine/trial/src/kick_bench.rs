@@ -6,7 +6,7 @@
 //! Distance and direction come from the server's ground truth of the ball (monitor scene graph).
 
 use crate::cmaes::Rng;
-use crate::episode::{Episode, Trial, TrialError, FALLEN_TORSO_Z_M};
+use crate::episode::{Episode, Trial, TrialError};
 use crate::kick_contact::{Contact, ContactTracer};
 use libero_skills::kick::KickApproach;
 use libero_skills::{BodyIntent, HeadIntent, Intent, KickState, SkillParams};
@@ -57,7 +57,6 @@ const BUMP_M: f64 = 0.05;
 /// The ball's launch direction is taken over this much travel [m].
 const LAUNCH_M: f64 = 0.5;
 /// Ball placement height (its radius: resting on the ground) [m].
-const BALL_Z_M: f64 = 0.11;
 /// Turning rate while searching for a ball not yet seen [deg/s].
 const SEARCH_TURN_DEG_S: f64 = 40.0;
 /// A ball unseen this long is searched for again [s] (the default `lost_after` of `KickTo`).
@@ -164,8 +163,13 @@ pub fn kick_once(
     let status = trial.skill_status();
     let progress = Arc::new(Mutex::new(Progress::default()));
     let shared = Arc::clone(&progress);
+    // Resting on the ground: the ball's centre one radius up.
+    let ball_z_m = libero_model::FieldGeometry::builtin(trial.model().server.default_field())
+        .map_or(0.11, |f| f.ball_radius);
+    let fallen_below_m =
+        trial.model().standing_torso_height * crate::episode::FALLEN_SHARE_OF_STANDING;
     let place_ball = format!(
-        "(ball (pos {} {} {BALL_Z_M})(vel 0 0 0))",
+        "(ball (pos {} {} {ball_z_m})(vel 0 0 0))",
         setup.ball[0], setup.ball[1]
     );
     let mut placed_at: Option<f64> = None;
@@ -185,7 +189,7 @@ pub fn kick_once(
         };
         // Place the ball (again, if the server ignored the first command).
         let at_place = truth_ball.is_some_and(|b| {
-            (b[0] - setup.ball[0]).hypot(b[1] - setup.ball[1]) < 0.05 && b[2] < BALL_Z_M + 0.02
+            (b[0] - setup.ball[0]).hypot(b[1] - setup.ball[1]) < 0.05 && b[2] < ball_z_m + 0.02
         });
         if placed_at.is_none_or(|at| !at_place && p.ball_start.is_none() && t - at > 0.5) {
             if let Ok(mut m) = monitor.lock() {
@@ -229,7 +233,7 @@ pub fn kick_once(
         if world
             .truth
             .torso_position
-            .is_some_and(|pos| pos[2] < FALLEN_TORSO_Z_M)
+            .is_some_and(|pos| pos[2] < fallen_below_m)
         {
             p.fell = true;
             return None;
@@ -331,7 +335,7 @@ pub fn kick_once(
     let mut outcome = KickOutcome {
         kicked: p.kick_started_at.is_some(),
         time_to_kick_s: p.kick_started_at,
-        fell: p.fell || rec.samples.iter().any(|s| s.position[2] < FALLEN_TORSO_Z_M),
+        fell: p.fell || rec.samples.iter().any(|s| s.low),
         contact: p.contact,
         launch_error_deg: p.ball_at_kick.zip(p.launch).map(|(a, b)| {
             wrap_deg((b[1] - a[1]).atan2(b[0] - a[0]).to_degrees() - setup.direction_deg)

@@ -40,7 +40,7 @@ pub use params::{BodyParams, WorldParams};
 pub use players::{PlayerEstimate, Players, Relation};
 
 use libero_model::kinematics::Kinematics;
-use libero_model::{FieldGeometry, RobotModel, ServerKind};
+use libero_model::{FieldGeometry, RobotModel};
 use libero_protocol::Percept;
 
 /// A message said in answer to percept k is heard with percept k + 2 (both servers).
@@ -122,11 +122,8 @@ impl World {
     /// A world on the server's default field: `fifa7vs7` for rcssservermj robots, `simspark`
     /// for SimSpark robots, with the shipped parameters.
     pub fn new(model: &RobotModel, team: &str, unum: u32) -> Self {
-        let field_name = match model.server {
-            ServerKind::RcssMj => "fifa7vs7",
-            ServerKind::SimSpark => "simspark",
-        };
-        let field = FieldGeometry::builtin(field_name).expect("shipped fields are valid");
+        let field =
+            FieldGeometry::builtin(model.server.default_field()).expect("shipped fields are valid");
         Self::with_field(model, field, team, unum)
     }
 

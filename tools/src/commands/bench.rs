@@ -32,8 +32,8 @@ pub enum Measure {
 #[derive(Args)]
 pub struct BenchArgs {
     pub what: Measure,
-    /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark; `walk` and
-    /// `getup` so far) [default: T1, or nao_type0 with `--server simspark`].
+    /// The robot: T1 (on rcssservermj) or a NAO type, nao_type0…4 (on SimSpark)
+    /// [default: T1, or nao_type0 with `--server simspark`].
     #[arg(long)]
     pub robot: Option<String>,
     /// The server; the robot's own by default (a NAO type plays on SimSpark).
@@ -72,9 +72,9 @@ pub fn run(args: BenchArgs) -> CliResult {
         return Err(format!("{robot} does not play on that server (--server, --robot)").into());
     }
     let simspark = model.server == ServerKind::SimSpark;
-    if simspark && !matches!(args.what, Measure::Walk | Measure::GetUp) {
+    if simspark && !matches!(args.what, Measure::Walk | Measure::GetUp | Measure::Kick) {
         return Err(format!(
-            "only `libero bench walk` and `getup` run on SimSpark so far (robot {robot})"
+            "only `libero bench walk`, `getup` and `kick` run on SimSpark so far (robot {robot})"
         )
         .into());
     }
@@ -85,7 +85,7 @@ pub fn run(args: BenchArgs) -> CliResult {
     match args.what {
         Measure::Walk => bench_walk(&params, &args, model),
         Measure::GetUp => bench_get_up(&params, &args, model),
-        Measure::Kick => bench_kick(&params, &args),
+        Measure::Kick => bench_kick(&params, &args, model),
         Measure::Cycle => {
             let play_s = if args.short { 10.0 } else { args.duration };
             super::bench_cycle::bench_cycle(args.players.clamp(1, 7), play_s, &args.data)
@@ -216,9 +216,9 @@ const WALK_S: f64 = 4.0;
 const LONG_KICK_REQUEST_M: f64 = 8.0;
 const SHORT_KICK_REQUEST_M: f64 = 1.5;
 
-fn bench_kick(params: &SkillParams, args: &BenchArgs) -> CliResult {
+fn bench_kick(params: &SkillParams, args: &BenchArgs, model: RobotModel) -> CliResult {
     let count = if args.short { 5 } else { 20 };
-    let mut trial = Trial::start()?;
+    let mut trial = Trial::start_on(std::sync::Arc::new(model))?;
     for (name, distance, seed) in [
         ("long", LONG_KICK_REQUEST_M, args.seed),
         ("short", SHORT_KICK_REQUEST_M, args.seed.wrapping_add(1000)),
