@@ -160,6 +160,16 @@ fn twenty_two_naos_join_stand_and_rejoin_a_restarted_server() {
     away.join();
 }
 
+/// A SimSpark trial server for a NAO of type 0 and its shipped skill parameters.
+fn type0_trial() -> (libero_trial::Trial, libero_skills::SkillParams) {
+    let model = Arc::new(RobotModel::builtin("nao_type0").unwrap());
+    let params =
+        libero_skills::SkillParams::load(&build::default_skill_params_file(&model), &model)
+            .expect("the shipped nao.ron");
+    let trial = libero_trial::Trial::start_on(model).expect("SimSpark starts");
+    (trial, params)
+}
+
 /// The NAO's walk on the real SimSpark, shortened for CI (the full measurement is `libero bench
 /// walk --robot nao_type0`), and its own localization while it walks. Ground truth from the
 /// monitor's scene graph. The bars sit below what the shipped nao.ron reaches (session 13:
@@ -168,11 +178,7 @@ fn twenty_two_naos_join_stand_and_rejoin_a_restarted_server() {
 #[test]
 fn a_nao_walks_forward_fast_without_falling_and_knows_where_it_is() {
     let _turn = live_turn();
-    let model = Arc::new(RobotModel::builtin("nao_type0").unwrap());
-    let params =
-        libero_skills::SkillParams::load(&build::default_skill_params_file(&model), &model)
-            .expect("the shipped nao.ron");
-    let mut trial = libero_trial::Trial::start_on(Arc::clone(&model)).expect("SimSpark starts");
+    let (mut trial, params) = type0_trial();
     let f = libero_trial::bench::forward(&mut trial, &params, 4.0, 25.0).unwrap();
     eprintln!(
         "NAO forward {:.3} m/s over {:.1} s ({:.2} m), fell at {:?}",
@@ -200,11 +206,7 @@ fn a_nao_gets_up_from_its_front() {
     use libero_skills::getup::Lying;
     use libero_trial::getup_bench;
     let _turn = live_turn();
-    let model = Arc::new(RobotModel::builtin("nao_type0").unwrap());
-    let params =
-        libero_skills::SkillParams::load(&build::default_skill_params_file(&model), &model)
-            .expect("the shipped nao.ron");
-    let mut trial = libero_trial::Trial::start_on(Arc::clone(&model)).expect("SimSpark starts");
+    let (mut trial, params) = type0_trial();
     for placement in getup_bench::varied_placements(Lying::Front, 3, 5) {
         let run = getup_bench::get_up(&mut trial, &params, placement, getup_bench::GET_UP_LIMIT_S)
             .unwrap();

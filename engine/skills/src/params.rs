@@ -38,6 +38,10 @@ pub struct SkillParams {
     /// get-up trial starts from where the server cannot lay a robot down.
     #[serde(default)]
     pub motions: BTreeMap<String, Vec<crate::getup::Keyframe>>,
+    /// The walk of particular heterogeneous types (SimSpark's NAO types by number), in place
+    /// of `walk` for a robot of that type: a type with longer legs walks another gait.
+    #[serde(default)]
+    pub walk_by_type: BTreeMap<u8, WalkParams>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -84,9 +88,14 @@ impl SkillParams {
         format!("{}.ron", family(&model.name).to_lowercase())
     }
 
+    /// Parse and check a parameter file for `model`; a walk of `walk_by_type` for the
+    /// model's type takes the place of `walk`.
     pub fn from_ron(file: &str, text: &str, model: &RobotModel) -> Result<Self, ParamsError> {
-        let params: SkillParams =
+        let mut params: SkillParams =
             libero_model::location::parse_ron(file, text).map_err(ParamsError::Syntax)?;
+        if let Some(walk) = model.hetero_type.and_then(|t| params.walk_by_type.get(&t)) {
+            params.walk = walk.clone();
+        }
         params.validate(model).map_err(|e| match e {
             ParamsError::Invalid { message, .. } => ParamsError::Invalid {
                 file: file.into(),
@@ -120,6 +129,10 @@ impl SkillParams {
             message,
         };
         self.walk.validate().map_err(invalid)?;
+        for (t, walk) in &self.walk_by_type {
+            walk.validate()
+                .map_err(|e| invalid(format!("walk_by_type {t}: {e}")))?;
+        }
         for joint in self.walk.leg_gains.keys() {
             let on_both_legs = ["left", "right"]
                 .iter()

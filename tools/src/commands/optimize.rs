@@ -10,8 +10,8 @@ use libero_model::RobotModel;
 use libero_skills::SkillParams;
 use libero_trial::optimize::kick::{select_kick_tunables, KickObjective, DEFAULT_KICK_TUNABLES};
 use libero_trial::optimize::{
-    optimize, select_walk_tunables, write_back, Evaluator, LocalServers, Objective, Options,
-    Tunable, WalkObjective, DEFAULT_WALK_TUNABLES,
+    optimize, select_walk_tunables, write_back, write_back_for_type, Evaluator, LocalServers,
+    Objective, Options, Tunable, WalkObjective, DEFAULT_WALK_TUNABLES,
 };
 use libero_trial::{Course, TrialError};
 use std::path::{Path, PathBuf};
@@ -291,7 +291,15 @@ pub fn run(args: OptimizeArgs) -> CliResult {
     } else if args.dry_run {
         println!("dry run: {} left as it is", params_path.display());
     } else {
-        let written = write_back(&start_text, &outcome.best, &tunables)?;
+        let typed = model
+            .hetero_type
+            .filter(|t| start.walk_by_type.contains_key(t));
+        let written = match (args.objective.skill, typed) {
+            (Skill::Walk, Some(t)) => {
+                write_back_for_type(&start_text, t, &outcome.best, &tunables)?
+            }
+            _ => write_back(&start_text, &outcome.best, &tunables)?,
+        };
         SkillParams::from_ron(&params_path.display().to_string(), &written, &model)?;
         std::fs::write(params_path, written)?;
         println!("wrote the best parameters to {}", params_path.display());

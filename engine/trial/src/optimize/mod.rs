@@ -295,10 +295,42 @@ pub fn optimize(
 /// keeping every comment and the layout. Each tunable is found by its path: every field name in
 /// turn, each the first occurrence (outside comments) after the one before.
 pub fn write_back(text: &str, best: &SkillParams, tunables: &[Tunable]) -> Result<String, String> {
+    write_back_from(text, 0, None, best, tunables)
+}
+
+/// As [`write_back`], for a robot whose walk is its type's entry of `walk_by_type`: the walk
+/// numbers are written into that entry, not into `walk`.
+pub fn write_back_for_type(
+    text: &str,
+    hetero_type: u8,
+    best: &SkillParams,
+    tunables: &[Tunable],
+) -> Result<String, String> {
+    let map = find_field(text, 0, "walk_by_type")
+        .ok_or("the file has no `walk_by_type` to write the type's walk into")?;
+    let entry = find_field(text, map, &hetero_type.to_string())
+        .ok_or_else(|| format!("`walk_by_type` has no entry for type {hetero_type}"))?;
+    write_back_from(text, entry, Some("walk"), best, tunables)
+}
+
+/// Write the tunables found from byte `from` on; with `within`, paths starting with that
+/// field start at `from` without it (the field is the map entry `from` points into).
+fn write_back_from(
+    text: &str,
+    from: usize,
+    within: Option<&str>,
+    best: &SkillParams,
+    tunables: &[Tunable],
+) -> Result<String, String> {
     let mut out = text.to_string();
     for t in tunables {
+        let mut fields: Vec<&str> = t.path.split('.').map(str::trim).collect();
         let mut at = 0;
-        for field in t.path.split('.').map(str::trim) {
+        if within.is_some_and(|w| fields.first() == Some(&w)) {
+            fields.remove(0);
+            at = from;
+        }
+        for field in fields {
             at = find_field(&out, at, field)
                 .ok_or_else(|| format!("`{}` ({}) is not in the file", t.name, t.path))?;
         }
@@ -364,6 +396,38 @@ mod tests {
         assert_eq!(again.walk.balance.ankle_pitch_per_gyro, -0.05);
         assert_eq!(written.lines().count(), text.lines().count());
         assert!(written.contains("// Omnidirectional walk"));
+    }
+
+    #[test]
+    fn a_types_walk_is_written_into_its_walk_by_type_entry() {
+        let model = RobotModel::builtin("nao_type3").unwrap();
+        let shipped = include_str!("../../../skills/params/nao.ron");
+        let mut walk = SkillParams::builtin(&model).unwrap().walk;
+        walk.step_period_s = 0.25;
+        let entry = format!(
+            "    walk_by_type: {{ 1: {}, 3: {} }},\n)",
+            ron::to_string(&walk).unwrap(),
+            ron::to_string(&walk).unwrap()
+        );
+        let text = shipped.trim_end().strip_suffix(')').unwrap().to_string() + &entry;
+        let mut best = SkillParams::from_ron("t.ron", &text, &model).unwrap();
+        assert_eq!(best.walk.step_period_s, 0.25, "type 3 walks its own walk");
+        best.walk.step_period_s = 0.1875;
+        let tunables = select_walk_tunables(&["step_period_s"], &model).unwrap();
+        let written = write_back_for_type(&text, 3, &best, &tunables).unwrap();
+        let again = SkillParams::from_ron("w.ron", &written, &model).unwrap();
+        assert_eq!(again.walk.step_period_s, 0.1875);
+        assert_eq!(
+            again.walk_by_type[&1].step_period_s, 0.25,
+            "type 1 untouched"
+        );
+        let type0 = RobotModel::builtin("nao_type0").unwrap();
+        let plain = SkillParams::from_ron("w.ron", &written, &type0).unwrap();
+        assert_eq!(
+            plain.walk.step_period_s,
+            SkillParams::builtin(&type0).unwrap().walk.step_period_s,
+            "the family's walk untouched"
+        );
     }
 
     #[test]
