@@ -321,6 +321,8 @@ impl Arena {
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
         let mut last_in_play = None;
+        // Whether play had stopped when the run ended (a goal, the ball out, a free kick).
+        let mut play_stopped;
         let (verdict, ended) = loop {
             std::thread::sleep(Duration::from_millis(5));
             if self.interrupt.load(Ordering::Relaxed) {
@@ -349,6 +351,7 @@ impl Arena {
             let ball_where_play_left_it =
                 s.play_mode == "PlayOn" || s.play_mode.starts_with("Goal_");
             measure.observe(t, s.ball, ball_where_play_left_it);
+            play_stopped = t > 0.1 && s.play_mode != "PlayOn";
             if s.play_mode == "PlayOn" {
                 last_in_play = s.ball.map(|b| [b[0], b[1]]);
             }
@@ -409,7 +412,7 @@ impl Arena {
             goals_against: s.score_right.saturating_sub(start.score_right),
             closest_m: judge.closest.map(|(g, _)| g),
             ball_travel_m: measure.max_travel,
-            goal_line_y: measure.goal_line_crossing(),
+            goal_line_y: measure.goal_line_crossing(play_stopped),
             ball_end: last_in_play,
             robots,
         })
@@ -505,9 +508,11 @@ impl LaunchTracker {
 
     /// Where the ball crossed a goal line: seen, or, when play stopped on the crossing (the
     /// referee moves the ball for a goal kick or corner before the next sample), extrapolated
-    /// from the last two samples in play when the line lies within 1.5 m ahead.
-    fn goal_line_crossing(&self) -> Option<f64> {
-        if self.goal_line_y.is_some() {
+    /// from the last two samples in play when the line lies within 1.5 m ahead. A run that
+    /// ended with play going on (its time ran out) has a ball still rolling, maybe towards the
+    /// line: nothing is extrapolated then (CI once saw a "crossing" 1.2 m short of the line).
+    fn goal_line_crossing(&self, play_stopped: bool) -> Option<f64> {
+        if self.goal_line_y.is_some() || !play_stopped {
             return self.goal_line_y;
         }
         let (a, b) = (self.before_last?, self.last?);
@@ -548,13 +553,16 @@ mod tests {
         // Read again before the monitor's next update.
         t.observe(1.15, Some([27.0, 1.4, 0.11]), true);
         t.observe(1.2, Some([26.5, 0.0, 0.11]), false);
-        let y = t.goal_line_crossing().expect("extrapolated");
+        let y = t.goal_line_crossing(true).expect("extrapolated");
         assert!((y - 1.5).abs() < 1e-9, "{y}");
+        // The same ball with play going on at the end (the run's time ran out): it may still
+        // stop short, so no crossing is made up.
+        assert_eq!(t.goal_line_crossing(false), None);
         // A ball that stopped far short of the line crossed nothing.
         let mut short = LaunchTracker::new([10.0, 0.0], 27.5);
         short.observe(0.0, Some([10.0, 0.0, 0.11]), true);
         short.observe(1.0, Some([20.0, 0.0, 0.11]), true);
         short.observe(1.1, Some([20.1, 0.0, 0.11]), true);
-        assert_eq!(short.goal_line_crossing(), None);
+        assert_eq!(short.goal_line_crossing(true), None);
     }
 }
