@@ -17,13 +17,21 @@ const SIMSPARK_LIMIT_MARGIN_DEG: f64 = 0.5;
 /// from is predicted, θ̂ = θ_k + v_prev·h, and v = g·(θ* − θ̂)/h with g the joint's `kp`
 /// (1: the error gone in one step; stable for 0 < g < 2). A plain v = g'·(θ* − θ_k) must keep
 /// g'·h below 0.25 to avoid overshoot: a 100 ms lag that a 0.3 s step cannot walk on.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct VelocityServo {
-    /// The velocity each joint was last sent [rad/s].
+    /// The velocity each joint was last sent [rad/s], one per model joint.
     sent_rad_s: Vec<f64>,
 }
 
 impl VelocityServo {
+    /// For a robot of `joints` joints, nothing sent yet (sized once: the cycle allocates
+    /// nothing).
+    pub fn new(joints: usize) -> Self {
+        Self {
+            sent_rad_s: vec![0.0; joints],
+        }
+    }
+
     /// Forget what was sent: the server wipes motor state when anyone joins or leaves.
     pub fn reset(&mut self) {
         self.sent_rad_s.iter_mut().for_each(|v| *v = 0.0);
@@ -36,9 +44,6 @@ impl VelocityServo {
         target: &JointTarget,
         angle_deg: f64,
     ) -> f64 {
-        if self.sent_rad_s.len() <= index {
-            self.sent_rad_s.resize(index + 1, 0.0);
-        }
         let (lo, hi) = joint.limits_deg;
         let margin = SIMSPARK_LIMIT_MARGIN_DEG.min((hi - lo) / 4.0);
         let target_deg = target.q_deg.clamp(lo + margin, hi - margin);
@@ -140,7 +145,7 @@ mod tests {
     #[test]
     fn the_servo_closes_the_predicted_error_in_one_step_at_gain_one() {
         let knee = nao_joint("left_knee");
-        let mut servo = VelocityServo::default();
+        let mut servo = VelocityServo::new(1);
         // 2° to go from rest: 2° in one 20 ms step.
         let v = servo.command(0, &knee, &target(-22.0, 1.0), -20.0);
         assert!((v - (-2f64).to_radians() / 0.02).abs() < 1e-9, "{v}");
@@ -158,7 +163,7 @@ mod tests {
     fn the_servo_stays_inside_the_range_and_the_speed_limit() {
         let knee = nao_joint("left_knee");
         let (lo, _) = knee.limits_deg;
-        let mut servo = VelocityServo::default();
+        let mut servo = VelocityServo::new(1);
         // A target beyond the limit is held half a degree inside it.
         let v = servo.command(0, &knee, &target(lo - 20.0, 1.0), lo + 0.2);
         assert!(v > 0.0, "pushed into the limit: {v}");

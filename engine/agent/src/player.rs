@@ -83,6 +83,7 @@ impl Player {
         // place a first-cycle beam puts the kick-off taker on).
         let mut decider = decider;
         decider.observe(&skills.status());
+        let servo = VelocityServo::new(model.joints.len());
         Self {
             writer: ActionWriter::new(model.server),
             model,
@@ -90,7 +91,7 @@ impl Player {
             skills,
             decider,
             targets,
-            servo: VelocityServo::default(),
+            servo,
             intent: Intent::default(),
             stats,
             beamed_in: None,

@@ -1,12 +1,13 @@
 //! One scripted episode on a real server, recorded from the ground truth.
 
-use libero_agent::{run_agent, AgentConfig, AgentStats, Decider, Player};
+use crate::scripted::{Confirm, Fall, ScriptedDecider};
+use libero_agent::{run_agent, AgentConfig, AgentStats, Player};
 use libero_model::RobotModel;
 use libero_server::{Monitor, ServerKind, ServerOptions, ServerProcess};
 use libero_skills::getup::Lying;
-use libero_skills::{BodyIntent, Intent, MotionId, SkillParams, SkillStatus, Skills};
+use libero_skills::{Intent, SkillParams, SkillStatus, Skills};
 use libero_world::{Posture, World};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
 #[derive(Debug, thiserror::Error)]
@@ -319,16 +320,10 @@ impl Trial {
         let simspark = self.model.server == ServerKind::SimSpark;
         let place = match episode.lying {
             // SimSpark holds a placement only outside BeforeKickOff, and its move yaw 0
-            // faces +y (simspark.md §7); it has no placement with a whole orientation.
-            None if simspark => format!(
-                "(playMode PlayOn)(agent (unum {UNUM}) (team Left) (move {x} {y} {} {}))",
-                self.model.standing_torso_height + 0.01,
-                heading - 90.0
-            ),
-            // No placement with a whole orientation: the robot is placed standing and falls
-            // by a motion of its own (`motions.fall_front` / `fall_back`); the roll is
-            // whatever the fall leaves.
-            Some(_) if simspark => format!(
+            // faces +y (simspark.md §7). It has no placement with a whole orientation: a lying
+            // robot is placed standing and falls by a motion of its own (`motions.fall_front`
+            // / `fall_back`); the roll is whatever the fall leaves.
+            _ if simspark => format!(
                 "(playMode PlayOn)(agent (unum {UNUM}) (team Left) (move {x} {y} {} {}))",
                 self.model.standing_torso_height + 0.01,
                 heading - 90.0
@@ -351,10 +346,7 @@ impl Trial {
                 let motion = params.motion_id(name).ok_or(TrialError::Unsupported(
                     "lying placements on SimSpark without the parameter file's `motions.fall_front` and `motions.fall_back` (it has no `move3d`: the robot falls by itself)",
                 ))?;
-                Some(Fall {
-                    motion,
-                    lying_since: None,
-                })
+                Some(Fall::by(motion))
             }
             _ => None,
         };
@@ -367,13 +359,10 @@ impl Trial {
             shutdown: Arc::clone(&shutdown),
             placed_at: None,
             fall,
-            place_command: Some(place),
+            place_command: place,
             // SimSpark ignores a placement of a robot whose init has not yet taken effect,
             // and the agent cannot tell it from its percepts: the monitor's truth confirms it.
-            confirm: simspark.then_some(Confirm {
-                at: [x, y],
-                sends: 1,
-            }),
+            confirm: simspark.then(|| Confirm::at([x, y])),
             monitor: Arc::clone(&self.monitor),
             status: Arc::clone(&self.status),
         };
@@ -416,199 +405,6 @@ impl Trial {
             return Err(TrialError::Empty);
         }
         Ok(recording)
-    }
-}
-
-/// A robot placed standing that must fall before its episode starts (SimSpark).
-struct Fall {
-    motion: MotionId,
-    /// Since when the torso has lain low and still.
-    lying_since: Option<f64>,
-}
-
-/// Standing this long after the placement before the fall motion starts [s].
-const FALL_AFTER_S: f64 = 0.5;
-/// Lying counts as still below this body rate [deg/s] held for this long [s].
-const LYING_STILL_DEG_S: f64 = 20.0;
-const LYING_STILL_FOR_S: f64 = 0.5;
-/// A fall that has not laid the robot down by now has failed [s].
-const FALL_TIMEOUT_S: f64 = 8.0;
-
-/// Decisions from a script, with placement, settling and recording around it.
-struct ScriptedDecider<S> {
-    /// Torso heights below this are a fall [m].
-    low_below_m: f64,
-    /// ... and from this up the robot stands [m].
-    tall_from_m: f64,
-    script: S,
-    settle_s: f64,
-    recording: Arc<Mutex<Recording>>,
-    shutdown: Arc<AtomicBool>,
-    /// Server time at which the placement was sent (after a fall: at which it lay still).
-    placed_at: Option<f64>,
-    /// Still to fall before the episode starts.
-    fall: Option<Fall>,
-    place_command: Option<String>,
-    /// Where the placement must show in the ground truth before the episode goes on.
-    confirm: Option<Confirm>,
-    monitor: Arc<Mutex<Monitor>>,
-    status: Arc<Mutex<SkillStatus>>,
-}
-
-/// A placement still to be seen in the ground truth.
-struct Confirm {
-    at: [f64; 2],
-    sends: u32,
-}
-
-/// The placed torso within this of its target counts as placed [m] (SimSpark's `move` is
-/// exact; a robot that was not moved is metres away).
-const PLACED_WITHIN_M: f64 = 0.1;
-/// A placement not seen after this is sent again [s] (the monitor reads commands every 40 ms
-/// and reports every 40 ms).
-const PLACEMENT_SHOWS_WITHIN_S: f64 = 0.3;
-const PLACEMENT_SENDS: u32 = 10;
-
-impl<S> ScriptedDecider<S> {
-    fn send_placement(&mut self) {
-        let Some(command) = self.place_command.as_deref() else {
-            return;
-        };
-        let sent = match self.monitor.lock() {
-            Ok(mut m) => m.send(command),
-            Err(_) => Err(std::io::Error::other("monitor lock poisoned")),
-        };
-        if let Err(e) = sent {
-            log::error!("trial: cannot place the robot: {e}");
-            self.shutdown.store(true, Ordering::Relaxed);
-        }
-    }
-}
-
-impl<S> Decider for ScriptedDecider<S>
-where
-    S: FnMut(&World, f64) -> Option<Intent> + Send,
-{
-    fn decide(&mut self, world: &World) -> Intent {
-        let stand = Intent::default();
-        if self.placed_at.is_none() {
-            // The side known: the server has taken the init, so it knows whom to place.
-            if self.confirm.is_some() && world.game.side.is_none() {
-                return stand;
-            }
-            self.send_placement();
-            self.placed_at = Some(world.time);
-            return stand;
-        }
-        let Some(placed) = self.placed_at else {
-            return stand;
-        };
-        if let Some(confirm) = self.confirm.as_mut() {
-            let there = world.truth.torso_position.is_some_and(|p| {
-                (p[0] - confirm.at[0]).hypot(p[1] - confirm.at[1]) < PLACED_WITHIN_M
-            });
-            if there {
-                // Settling counts from here.
-                self.confirm = None;
-                self.placed_at = Some(world.time);
-            } else if world.time - placed > PLACEMENT_SHOWS_WITHIN_S {
-                if confirm.sends >= PLACEMENT_SENDS {
-                    log::error!(
-                        "trial: the robot was not placed at {:?} after {PLACEMENT_SENDS} tries",
-                        confirm.at
-                    );
-                    self.shutdown.store(true, Ordering::Relaxed);
-                } else {
-                    confirm.sends += 1;
-                    self.send_placement();
-                    self.placed_at = Some(world.time);
-                }
-            }
-            return stand;
-        }
-        if let Some(fall) = self.fall.as_mut() {
-            let motion = fall.motion;
-            let since = world.time - placed;
-            if since < FALL_AFTER_S {
-                return stand;
-            }
-            let low = world
-                .truth
-                .torso_position
-                .is_some_and(|p| p[2] < self.low_below_m);
-            let [gx, gy, gz] = world.body.gyro;
-            let still = (gx * gx + gy * gy + gz * gz).sqrt() < LYING_STILL_DEG_S;
-            fall.lying_since = (low && still).then(|| fall.lying_since.unwrap_or(world.time));
-            if fall
-                .lying_since
-                .is_some_and(|t| world.time - t >= LYING_STILL_FOR_S)
-            {
-                // The episode starts now, from lying still.
-                self.fall = None;
-                self.placed_at = Some(world.time);
-            } else if since > FALL_TIMEOUT_S {
-                log::error!(
-                    "trial: the fall motion did not lay the robot down in {FALL_TIMEOUT_S} s"
-                );
-                self.shutdown.store(true, Ordering::Relaxed);
-                return stand;
-            }
-            return Intent {
-                body: BodyIntent::Motion { id: motion },
-                ..Intent::default()
-            };
-        }
-        let t = world.time - placed - self.settle_s;
-        if t < 0.0 {
-            return stand;
-        }
-        let intent = match (self.script)(world, t) {
-            Some(intent) => intent,
-            None => {
-                self.shutdown.store(true, Ordering::Relaxed);
-                return stand;
-            }
-        };
-        if let Ok(mut r) = self.recording.lock() {
-            r.samples
-                .push(sample(world, t, self.low_below_m, self.tall_from_m));
-            r.intents.push(intent.clone());
-        }
-        intent
-    }
-
-    fn observe(&mut self, status: &SkillStatus) {
-        if let Ok(mut s) = self.status.lock() {
-            *s = *status;
-        }
-    }
-}
-
-fn sample(world: &World, t: f64, low_below_m: f64, tall_from_m: f64) -> Sample {
-    let position = world.truth.torso_position.unwrap_or([f64::NAN; 3]);
-    let [w, x, y, z] = world.truth.torso_orientation.unwrap_or([f64::NAN; 4]);
-    let yaw_deg = (2.0 * (w * z + x * y))
-        .atan2(1.0 - 2.0 * (y * y + z * z))
-        .to_degrees();
-    let pitch_deg = (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin().to_degrees();
-    let roll_deg = (2.0 * (w * x + y * z))
-        .atan2(1.0 - 2.0 * (x * x + y * y))
-        .to_degrees();
-    let tilt_deg = (1.0 - 2.0 * (x * x + y * y))
-        .clamp(-1.0, 1.0)
-        .acos()
-        .to_degrees();
-    Sample {
-        t,
-        position,
-        yaw_deg,
-        pitch_deg,
-        roll_deg: -roll_deg,
-        tilt_deg,
-        posture: world.body.posture,
-        low: position[2] < low_below_m,
-        tall: position[2] >= tall_from_m,
-        estimate: world.me.localized.then_some(world.me.position),
     }
 }
 

@@ -165,7 +165,8 @@ pub fn kick_once(
     let shared = Arc::clone(&progress);
     // Resting on the ground: the ball's centre one radius up.
     let ball_z_m = libero_model::FieldGeometry::builtin(trial.model().server.default_field())
-        .map_or(0.11, |f| f.ball_radius);
+        .expect("shipped fields are valid")
+        .ball_radius;
     let fallen_below_m =
         trial.model().standing_torso_height * crate::episode::FALLEN_SHARE_OF_STANDING;
     let place_ball = format!(

@@ -15,6 +15,7 @@ pub mod kick_contact;
 pub mod measure;
 pub mod optimize;
 pub mod save_bench;
+mod scripted;
 
 pub use course::Course;
 pub use episode::{Episode, LyingPlacement, Recording, Sample, Trial, TrialError};
