@@ -87,7 +87,16 @@ impl BodyState {
                 *g += SMOOTHING * (a - *g);
             }
         }
-        self.posture_reading = posture_from_gravity(self.gravity);
+        let reading = posture_from_gravity(self.gravity);
+        if reading != self.posture_reading {
+            log::debug!(
+                "posture reading {:?} -> {:?}, gravity {:.2?}",
+                self.posture_reading,
+                reading,
+                self.gravity
+            );
+        }
+        self.posture_reading = reading;
         let now = self.last_time.unwrap_or(0.0);
         self.lying_read_since = match self.posture_reading {
             Posture::Upright => None,

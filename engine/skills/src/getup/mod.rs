@@ -7,7 +7,7 @@ mod motion;
 mod tests;
 
 pub(crate) use motion::validate_frames;
-pub use motion::{Condition, GetUpBalance, GetUpParams, Keyframe, Sensed};
+pub use motion::{Condition, GetUpBalance, GetUpParams, Keyframe, RestUntilStill, Sensed};
 
 use crate::walk::balance::Attitude;
 use libero_model::RobotModel;
@@ -159,9 +159,12 @@ impl GetUp {
             // Start only once the detector has reported lying for `rest_s` (or at once when
             // asked): a jolt, e.g. being placed by the referee, can fake a fall for a moment,
             // and a get-up started while standing throws the robot down.
-            let settled = self
-                .lying_since
-                .is_some_and(|since| world.time - since >= p.rest_s);
+            let lain = self.lying_since.map_or(0.0, |since| world.time - since);
+            let still = p.rest_until_still.is_none_or(|r| {
+                lain >= r.at_most_s
+                    || Sensed::from_body(&world.body).rate_deg_s < r.rate_below_deg_s
+            });
+            let settled = self.lying_since.is_some() && lain >= p.rest_s && still;
             let Some(lying) = lying.filter(|_| settled || requested) else {
                 return false;
             };
@@ -172,6 +175,15 @@ impl GetUp {
                 }
                 None => Playhead::start(&world.body.joint_angles, world.time),
             };
+            let sensed = Sensed::from_body(&world.body);
+            log::debug!(
+                "get-up: t {:.2} {lying:?} motion starts after {:.2} s lying; pitch {:.0}°, roll {:.0}°, rate {:.0}°/s",
+                world.time,
+                self.lying_since.map_or(0.0, |since| world.time - since),
+                sensed.attitude.pitch_deg,
+                sensed.attitude.roll_deg,
+                sensed.rate_deg_s
+            );
             self.running = Some(Run {
                 motion: Motion::of(lying),
                 head,
@@ -190,15 +202,38 @@ impl GetUp {
                 // The roll is over (its last frame waited for face down): on into the
                 // front motion, from the pose the roll ended in.
                 (Motion::Back, Some(k)) => run.switch_to(Motion::Front, k, world.time),
-                _ => self.finish(),
+                _ => {
+                    log::debug!(
+                        "get-up: t {:.2} {:?} played out; pitch {:.0}°, roll {:.0}°, rate {:.0}°/s",
+                        world.time,
+                        run.motion,
+                        sensed.attitude.pitch_deg,
+                        sensed.attitude.roll_deg,
+                        sensed.rate_deg_s
+                    );
+                    self.finish()
+                }
             },
             // A sensed condition never came: play the frame's recovery motion from the pose
             // held now, or, without one, start over next cycle from the new posture if still
             // lying.
             Step::TimedOut(Some(recovery)) => {
+                log::debug!(
+                    "get-up: t {:.2} frame {} timed out: {recovery}",
+                    world.time,
+                    run.head.frame
+                );
                 run.switch_to(Motion::Recover(recovery), 0, world.time)
             }
-            Step::TimedOut(None) => self.finish(),
+            Step::TimedOut(None) => {
+                log::debug!(
+                    "get-up: t {:.2} {:?} frame {} timed out: start over",
+                    world.time,
+                    run.motion,
+                    run.head.frame
+                );
+                self.finish()
+            }
         }
         true
     }

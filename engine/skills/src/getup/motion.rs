@@ -151,6 +151,15 @@ impl Default for GetUpBalance {
     }
 }
 
+/// Waiting for a lying body to stop moving before a get-up starts.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+pub struct RestUntilStill {
+    /// Still: the gyro's rate below this [deg/s] ...
+    pub rate_below_deg_s: f64,
+    /// ... or lying this long, still or not [s].
+    pub at_most_s: f64,
+}
+
 /// The get-up motions.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct GetUpParams {
@@ -160,8 +169,13 @@ pub struct GetUpParams {
     pub back: Vec<Keyframe>,
     /// Gains during the motions, by joint name; others keep the model's defaults.
     pub gains: BTreeMap<String, Gains>,
-    /// Wait this long lying still before starting, so the body has come to rest [s].
+    /// Wait this long lying before starting, so the body has come to rest [s].
     pub rest_s: f64,
+    /// ... and, when set, until the torso turns slower than this (a fall in a match often
+    /// ends in a roll or a rocking on the back that goes on for a second; a motion started
+    /// then lands in a pose its frames do not expect).
+    #[serde(default)]
+    pub rest_until_still: Option<RestUntilStill>,
     #[serde(default)]
     pub balance: GetUpBalance,
     /// When set, the back motion (a roll onto the front) runs straight on into the front
@@ -218,6 +232,20 @@ impl GetUpParams {
                     self.front.len()
                 ));
             }
+        }
+        if let Some(r) = self.rest_until_still {
+            in_range(
+                "get_up.rest_until_still.rate_below_deg_s",
+                r.rate_below_deg_s,
+                0.0,
+                1000.0,
+            )?;
+            in_range(
+                "get_up.rest_until_still.at_most_s",
+                r.at_most_s,
+                self.rest_s,
+                10.0,
+            )?;
         }
         in_range("get_up.rest_s", self.rest_s, 0.0, 3.0)
     }

@@ -220,7 +220,8 @@ fn a_timed_out_wait_switches_to_its_recovery_motion_from_the_held_pose() {
     squat.timeout_s = 0.2;
     squat.on_timeout = Some("rise_slowly".into());
     p.front = vec![squat, frame(0.1, 0.0, None)];
-    p.recover = BTreeMap::from([("rise_slowly".to_string(), vec![frame(0.4, 40.0, None)])]);
+    p.recover
+        .insert("rise_slowly".to_string(), vec![frame(0.4, 40.0, None)]);
     let mut r = Driven::lying(p, Posture::FallenFront, [-9.81, 0.0, 0.0]);
     r.p.validate(&r.model).unwrap();
     r.knee_at(0.0);
@@ -253,5 +254,53 @@ fn validation_names_an_unknown_recovery_motion() {
     p.front[0].on_timeout = Some("sit_down".into());
     if p.front[0].until.is_none() {
         assert!(p.validate(&model).unwrap_err().contains("no `until`"));
+    }
+}
+
+#[test]
+fn a_body_still_rolling_is_left_to_come_to_rest_before_the_get_up_starts() {
+    let mut p = builtin_get_up();
+    p.rest_s = 0.3;
+    p.rest_until_still = Some(RestUntilStill {
+        rate_below_deg_s: 30.0,
+        at_most_s: 1.5,
+    });
+    let mut d = Driven::lying(p, Posture::FallenBack, [9.8, 0.0, 0.0]);
+    let mut starts_at = |gyro: [f64; 3], still_from: f64| {
+        d.getup = GetUp::new();
+        (0..200).map(|k| f64::from(k) * 0.02).find(|&t| {
+            d.world.time = t;
+            d.world.body.gyro = if t < still_from { gyro } else { [0.0; 3] };
+            d.getup.update(&d.world, false, &d.p, &d.model, &mut d.pose)
+        })
+    };
+    // Lying still: after rest_s, as before.
+    let still = starts_at([0.0; 3], 0.0).unwrap();
+    assert!((still - 0.3).abs() < 0.03, "{still}");
+    // Rocking at 100 deg/s until 0.8 s: the motion waits for the rocking to end ...
+    let rocking = starts_at([0.0, 100.0, 0.0], 0.8).unwrap();
+    assert!((rocking - 0.8).abs() < 0.03, "{rocking}");
+    // ... but not for ever: a body that never comes to rest is got up after at_most_s.
+    let restless = starts_at([0.0, 100.0, 0.0], f64::INFINITY).unwrap();
+    assert!((restless - 1.5).abs() < 0.03, "{restless}");
+}
+
+#[test]
+fn the_shipped_back_roll_tries_the_other_side_when_it_does_not_reach_face_down() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let p = crate::SkillParams::builtin(&model).unwrap().get_up;
+    let timeout_to = |motion: &[Keyframe]| -> Vec<Option<String>> {
+        motion
+            .iter()
+            .map(|f| f.on_timeout.as_deref().map(str::to_string))
+            .collect()
+    };
+    assert!(timeout_to(&p.back).contains(&Some("back_mirrored".to_string())));
+    let mirrored = &p.recover["back_mirrored"];
+    assert_eq!(mirrored.len(), p.back.len());
+    // Each frame is the mirror image of the roll's (the saves' rule), so the roll goes the
+    // other way.
+    for (m, b) in mirrored.iter().zip(&p.back) {
+        assert_eq!(m.pose, crate::save::mirror_frame(b).pose);
     }
 }
