@@ -259,10 +259,7 @@ impl Skills {
                 &self.params.kick,
                 walk_params,
             )),
-            _ => {
-                self.kick.reset();
-                None
-            }
+            _ => self.kick.carry_on(world.time),
         };
         let dribble = match intent.body {
             BodyIntent::Dribble {

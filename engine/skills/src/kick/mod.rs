@@ -228,6 +228,26 @@ impl Kick {
         now - *self.calm_since.get_or_insert(now) >= a.calm_s
     }
 
+    /// One cycle without a kick request: a kick motion under way plays on to its end (a
+    /// one-cycle change of mind, e.g. the tree's fall check tripped by the swing's own jolt,
+    /// must not leave the robot standing on one leg mid-swing); otherwise the kick is
+    /// forgotten. `None` when no motion runs.
+    pub fn carry_on(&mut self, now: f64) -> Option<KickOutput> {
+        if self.state != KickState::Kicking {
+            self.reset();
+            return None;
+        }
+        let finished = self
+            .running
+            .as_ref()
+            .is_none_or(|r| now - r.started_s >= r.plan.duration_s());
+        if finished {
+            self.reset();
+            return None;
+        }
+        Some(KickOutput::Motion)
+    }
+
     /// One cycle of a kick request. The kick starts only once the robot stands still at the
     /// kicking place and its body has stopped swaying.
     pub fn update(

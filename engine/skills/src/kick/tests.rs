@@ -311,3 +311,53 @@ fn short_requests_get_the_short_kick() {
     assert_eq!(kick.foot(), Some(Foot::Right));
     assert!(kick.running.as_ref().is_some_and(|r| !r.long));
 }
+
+#[test]
+fn a_kick_motion_plays_on_through_a_cycle_without_the_request_but_an_approach_does_not() {
+    let t1 = RobotModel::builtin("T1").unwrap();
+    let p = crate::SkillParams::builtin(&t1).unwrap();
+    let (k, w) = (&p.kick, &p.walk);
+    let mut kick = Kick::new(&t1).unwrap();
+    let at_place = KickRequest {
+        ball: [k.approach.ball_ahead_m, k.approach.ball_beside_m],
+        direction_deg: 0.0,
+        distance_m: 8.0,
+    };
+    let mut t = 0.0;
+    while kick.update(at_place, t, body(false, 0.0), k, w) != KickOutput::Motion {
+        assert!(t < 2.0, "no kick");
+        t += 0.02;
+    }
+    let started = t;
+    let duration = MotionPlan::new(
+        Foot::Left,
+        at_place.ball,
+        0.0,
+        k.ball_radius_m,
+        k.toe_ahead_of_ankle_m,
+        &k.long,
+        w,
+    )
+    .duration_s();
+    // Mid-swing the tree asks for something else for a cycle (its fall check tripped by the
+    // swing's jolt): the motion goes on, and the request back finds it still kicking.
+    let swing = started + k.long.shift_s + k.long.windup_s;
+    assert_eq!(kick.carry_on(swing), Some(KickOutput::Motion));
+    assert_eq!(kick.state(), KickState::Kicking);
+    assert_eq!(
+        kick.update(at_place, swing + 0.02, body(false, 0.0), k, w),
+        KickOutput::Motion
+    );
+    // Played out without a request: the kick is over and forgotten.
+    assert_eq!(kick.carry_on(started + duration + 0.02), None);
+    assert_eq!(kick.state(), KickState::Idle);
+    // An approach is not carried on: without the request the robot is free at once.
+    let far = KickRequest {
+        ball: [2.0, 0.0],
+        ..at_place
+    };
+    kick.update(far, 10.0, body(false, 0.0), k, w);
+    assert_eq!(kick.state(), KickState::Approaching);
+    assert_eq!(kick.carry_on(10.02), None);
+    assert_eq!(kick.state(), KickState::Idle);
+}
