@@ -91,6 +91,8 @@ pub struct Skills {
     /// lies until the get-up starts: holding the end pose there instead stood 19 and 15 of 20
     /// (end pose with straight legs / with the stand's legs) against 40 of 40 (NOTES.md).
     after_dive: Option<(DiveSide, Vec<f64>)>,
+    /// Standing after a get-up until the body has settled (`get_up.settle`).
+    settling: Option<getup::Settling>,
     active: ActiveSkill,
     blend: Option<Blend>,
     /// The pose the blend starts from (kept: a blend starts at every change of skill).
@@ -116,6 +118,7 @@ impl Skills {
             save: save::Save::new().with_room(model.joints.len()),
             motion: motion::MotionPlayer::new(model.joints.len()),
             after_dive: None,
+            settling: None,
             gains: gains::GainTable::new(model, &params),
             save_motions: params.save.motions(),
             params,
@@ -229,9 +232,26 @@ impl Skills {
             &mut self.pose,
         );
         let saving = saving || playing_motion;
+        // The get-up played out last cycle: stand until the body has settled.
+        if self.active == ActiveSkill::GetUp && !self.get_up.is_running() {
+            self.settling = self
+                .params
+                .get_up
+                .settle
+                .map(|_| getup::Settling::new(world.time));
+        }
+        let settling = match (self.settling.as_mut(), self.params.get_up.settle.as_ref()) {
+            (Some(s), Some(p)) if !saving => {
+                s.goes_on(p, &getup::Sensed::from_body(&world.body), world.time)
+            }
+            _ => false,
+        };
+        if !settling {
+            self.settling = None;
+        }
         let walk_params = &self.params.walk;
         let kick = match intent.body {
-            _ if saving => {
+            _ if saving || settling => {
                 self.kick.reset();
                 None
             }
@@ -265,7 +285,7 @@ impl Skills {
             BodyIntent::Dribble {
                 ball,
                 direction_deg,
-            } if !saving => {
+            } if !saving && !settling => {
                 Some(
                     self.dribble
                         .update(ball, direction_deg, &self.params.dribble, walk_params),
@@ -288,6 +308,7 @@ impl Skills {
             );
         }
         let request = match intent.body {
+            _ if settling => None,
             BodyIntent::Stand
             | BodyIntent::GetUp
             | BodyIntent::Dive { .. }

@@ -7,7 +7,9 @@ mod motion;
 mod tests;
 
 pub(crate) use motion::validate_frames;
-pub use motion::{Condition, GetUpBalance, GetUpParams, Keyframe, RestUntilStill, Sensed};
+pub use motion::{
+    Condition, GetUpBalance, GetUpParams, Keyframe, RestUntilStill, Sensed, SettleAfter,
+};
 
 use crate::walk::balance::Attitude;
 use libero_model::RobotModel;
@@ -258,6 +260,35 @@ impl Run {
         self.head.frame = frame;
         self.head.frame_started_s = now;
         self.head.held_since = None;
+    }
+}
+
+/// The stand after a get-up (`GetUpParams::settle`): when it began and since when the body
+/// has been calm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settling {
+    since: f64,
+    calm_since: Option<f64>,
+}
+
+impl Settling {
+    pub fn new(now: f64) -> Self {
+        Self {
+            since: now,
+            calm_since: None,
+        }
+    }
+
+    /// One cycle: whether the robot still has to stand (false once settled or out of time).
+    pub fn goes_on(&mut self, p: &SettleAfter, sensed: &Sensed, now: f64) -> bool {
+        if now - self.since >= p.at_most_s {
+            return false;
+        }
+        if !p.calm(sensed) {
+            self.calm_since = None;
+            return true;
+        }
+        now - *self.calm_since.get_or_insert(now) < p.calm_s
     }
 }
 

@@ -160,6 +160,28 @@ pub struct RestUntilStill {
     pub at_most_s: f64,
 }
 
+/// Standing still after a get-up until the torso is upright and calm.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+pub struct SettleAfter {
+    /// Settled: pitch and roll within this of upright [deg] ...
+    pub upright_within_deg: f64,
+    /// ... the gyro's rate below this [deg/s] ...
+    pub rate_below_deg_s: f64,
+    /// ... both for this long [s];
+    pub calm_s: f64,
+    /// or this long after the motion ended, settled or not [s].
+    pub at_most_s: f64,
+}
+
+impl SettleAfter {
+    /// Whether the body read by `sensed` counts as settled.
+    pub fn calm(&self, sensed: &Sensed) -> bool {
+        sensed.attitude.pitch_deg.abs() < self.upright_within_deg
+            && sensed.attitude.roll_deg.abs() < self.upright_within_deg
+            && sensed.rate_deg_s < self.rate_below_deg_s
+    }
+}
+
 /// The get-up motions.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct GetUpParams {
@@ -176,6 +198,11 @@ pub struct GetUpParams {
     /// then lands in a pose its frames do not expect).
     #[serde(default)]
     pub rest_until_still: Option<RestUntilStill>,
+    /// After a get-up, stand until the body has settled before walking again (a walk started
+    /// the moment the motion ended, the torso still 13-16 deg forward, fell again within
+    /// 1-1.5 s several times a run in striker_alone).
+    #[serde(default)]
+    pub settle: Option<SettleAfter>,
     #[serde(default)]
     pub balance: GetUpBalance,
     /// When set, the back motion (a roll onto the front) runs straight on into the front
@@ -246,6 +273,22 @@ impl GetUpParams {
                 self.rest_s,
                 10.0,
             )?;
+        }
+        if let Some(st) = self.settle {
+            in_range(
+                "get_up.settle.upright_within_deg",
+                st.upright_within_deg,
+                0.0,
+                45.0,
+            )?;
+            in_range(
+                "get_up.settle.rate_below_deg_s",
+                st.rate_below_deg_s,
+                0.0,
+                1000.0,
+            )?;
+            in_range("get_up.settle.calm_s", st.calm_s, 0.0, st.at_most_s)?;
+            in_range("get_up.settle.at_most_s", st.at_most_s, 0.0, 5.0)?;
         }
         in_range("get_up.rest_s", self.rest_s, 0.0, 3.0)
     }

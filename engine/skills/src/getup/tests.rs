@@ -304,3 +304,89 @@ fn the_shipped_back_roll_tries_the_other_side_when_it_does_not_reach_face_down()
         assert_eq!(m.pose, crate::save::mirror_frame(b).pose);
     }
 }
+
+#[test]
+fn after_a_get_up_the_robot_stands_until_settled_or_out_of_time() {
+    let p = SettleAfter {
+        upright_within_deg: 10.0,
+        rate_below_deg_s: 20.0,
+        calm_s: 0.3,
+        at_most_s: 1.5,
+    };
+    let body = |pitch_deg: f64, rate_deg_s: f64| Sensed {
+        rate_deg_s,
+        ..pitched(pitch_deg)
+    };
+    let mut s = Settling::new(0.0);
+    // Leaning 15° forward as the front motion ends: not settled.
+    assert!(s.goes_on(&p, &body(15.0, 5.0), 0.1));
+    // Upright but still swaying: not yet.
+    assert!(s.goes_on(&p, &body(3.0, 40.0), 0.3));
+    // Upright and calm: settled once that has lasted calm_s.
+    assert!(s.goes_on(&p, &body(3.0, 5.0), 0.4));
+    assert!(s.goes_on(&p, &body(3.0, 5.0), 0.6));
+    assert!(!s.goes_on(&p, &body(3.0, 5.0), 0.71));
+    // A body that never settles is let go after at_most_s.
+    let mut s = Settling::new(0.0);
+    assert!(s.goes_on(&p, &body(15.0, 5.0), 1.4));
+    assert!(!s.goes_on(&p, &body(15.0, 5.0), 1.5));
+}
+
+#[test]
+fn the_skills_stand_after_a_get_up_until_the_body_is_calm_then_walk() {
+    use crate::{ActiveSkill, BodyIntent, Intent, JointTargets, SkillParams, Skills};
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut params = SkillParams::builtin(&model).unwrap();
+    params.get_up.rest_s = 0.0;
+    params.get_up.rest_until_still = None;
+    params.get_up.front = vec![frame(0.1, 30.0, None), frame(0.1, 0.0, None)];
+    let settle = SettleAfter {
+        upright_within_deg: 10.0,
+        rate_below_deg_s: 20.0,
+        calm_s: 0.3,
+        at_most_s: 1.5,
+    };
+    params.get_up.settle = Some(settle);
+    let mut skills = Skills::new(&model, params).unwrap();
+    let mut world = World::new(&model, "t", 1);
+    let mut out = JointTargets::default();
+    let walk = Intent {
+        body: BodyIntent::Walk {
+            forward_m_s: 0.3,
+            sideways_m_s: 0.0,
+            turn_deg_s: 0.0,
+        },
+        ..Intent::default()
+    };
+    let mut cycle = |world: &mut World| {
+        world.time += 0.02;
+        skills.act(&model, world, &walk, &mut out);
+        skills.active()
+    };
+    world.body.gravity = [-9.81, 0.0, 0.0];
+    world.body.posture = Posture::FallenFront;
+    assert_eq!(cycle(&mut world), ActiveSkill::GetUp);
+    // Up, but the torso still sways: the walk waits.
+    world.body.gravity = [0.0, 0.0, 9.81];
+    world.body.posture = Posture::Upright;
+    world.body.gyro = [0.0, 40.0, 0.0];
+    let mut t = 0.0;
+    while cycle(&mut world) == ActiveSkill::GetUp {
+        t += 0.02;
+        assert!(t < 1.0, "the get-up never ended");
+    }
+    for _ in 0..20 {
+        assert_eq!(cycle(&mut world), ActiveSkill::Stand);
+    }
+    // Calm: after calm_s of it, walking.
+    world.body.gyro = [0.0; 3];
+    let calm_from = world.time;
+    while cycle(&mut world) == ActiveSkill::Stand {
+        assert!(
+            world.time - calm_from < settle.calm_s + 0.05,
+            "still standing"
+        );
+    }
+    assert!(world.time - calm_from >= settle.calm_s - 1e-9);
+    assert_eq!(skills.active(), ActiveSkill::Walk);
+}
