@@ -49,7 +49,10 @@ pub struct Player {
 /// Ground truth for a player by side (left?) and uniform number, where the server does not put
 /// it in the percept: SimSpark's monitor scene graph. Tests and evaluation only — it goes to
 /// `World::truth`, which no estimate or decision reads.
-pub type TruthFeed = Arc<dyn Fn(bool, u32) -> Option<libero_world::GroundTruth> + Send + Sync>;
+/// Ground truth for the agent's own torso from outside the percept (SimSpark's monitor), asked
+/// for once a cycle with the team side (left?), the uniform number and the play time of the
+/// percept just read, so that a feed can hand out the truth of that same moment.
+pub type TruthFeed = Arc<dyn Fn(bool, u32, f64) -> Option<libero_world::GroundTruth> + Send + Sync>;
 
 /// Where the evaluation log goes and whether it carries decision traces.
 struct EvalLog {
@@ -224,7 +227,8 @@ impl Player {
                 self.world.update(&self.model, &percept);
                 if let (Some(feed), Some(side)) = (&self.truth_feed, self.world.game.side) {
                     let left = side == libero_world::Side::Left;
-                    if let Some(truth) = feed(left, self.world.game.unum) {
+                    if let Some(truth) = feed(left, self.world.game.unum, self.world.game.play_time)
+                    {
                         self.world.truth = truth;
                     }
                 }

@@ -10,6 +10,11 @@ use libero_world::{Posture, World};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
+/// SimSpark's monitor reports every second cycle [s].
+const MONITOR_STEP_S: f64 = 0.04;
+/// How long a cycle's truth may wait for the monitor to catch up with the agent.
+const MONITOR_CATCH_UP: std::time::Duration = std::time::Duration::from_millis(200);
+
 #[derive(Debug, thiserror::Error)]
 pub enum TrialError {
     #[error(transparent)]
@@ -381,8 +386,21 @@ impl Trial {
                 .lock()
                 .map_err(|_| TrialError::Monitor(std::io::Error::other("monitor lock poisoned")))?
                 .reader();
-            player.set_truth_feed(Arc::new(move |left, unum| {
-                let robots = snapshot().robots;
+            player.set_truth_feed(Arc::new(move |left, unum, play_time| {
+                // The monitor's reader runs on its own thread and can fall behind a fast
+                // sync-mode server by a few tenths of a second (the NAO's localization error
+                // read 18-19 cm at 0.6 m/s that way: the estimate against an older truth).
+                // The server waits for this agent, so waiting here for the monitor to reach the
+                // percept's play time keeps the two in step; bounded, so a stuck monitor costs
+                // at most a moment a cycle.
+                let deadline = std::time::Instant::now() + MONITOR_CATCH_UP;
+                let mut now = snapshot();
+                while now.time + MONITOR_STEP_S < play_time && std::time::Instant::now() < deadline
+                {
+                    std::thread::sleep(std::time::Duration::from_micros(200));
+                    now = snapshot();
+                }
+                let robots = now.robots;
                 let robot = robots.iter().find(|r| r.left == left && r.unum == unum)?;
                 Some(libero_world::GroundTruth {
                     torso_position: Some(robot.torso),
