@@ -46,12 +46,10 @@ pub struct Player {
     truth_feed: Option<TruthFeed>,
 }
 
-/// Ground truth for a player by side (left?) and uniform number, where the server does not put
-/// it in the percept: SimSpark's monitor scene graph. Tests and evaluation only — it goes to
-/// `World::truth`, which no estimate or decision reads.
-/// Ground truth for the agent's own torso from outside the percept (SimSpark's monitor), asked
-/// for once a cycle with the team side (left?), the uniform number and the play time of the
-/// percept just read, so that a feed can hand out the truth of that same moment.
+/// Ground truth for a player by side (left?), uniform number and the play time of the percept
+/// just read, where the server does not put it in the percept: SimSpark's monitor scene graph
+/// (the time lets a feed hand out the truth of that same moment). Tests and evaluation only —
+/// it goes to `World::truth`, which no estimate or decision reads.
 pub type TruthFeed = Arc<dyn Fn(bool, u32, f64) -> Option<libero_world::GroundTruth> + Send + Sync>;
 
 /// Where the evaluation log goes and whether it carries decision traces.

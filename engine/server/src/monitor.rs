@@ -6,8 +6,8 @@ use libero_protocol::frame::{encode_frame, FrameReader};
 use libero_protocol::sexp;
 use std::io::Write;
 use std::net::TcpStream;
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Duration;
 
 /// Play-mode names in the order of the monitor's `play_mode` index (rcsssmj `play_mode.py`).
 pub const PLAY_MODES: [&str; 23] = [
@@ -59,7 +59,35 @@ pub struct GameSnapshot {
 /// keeps the newest game state.
 pub struct Monitor {
     writer: TcpStream,
-    state: Arc<Mutex<GameSnapshot>>,
+    state: Arc<Shared>,
+}
+
+/// The newest game state and a signal for each frame applied to it (waiters wake on it instead
+/// of polling).
+#[derive(Default)]
+struct Shared {
+    snapshot: Mutex<GameSnapshot>,
+    updated: Condvar,
+}
+
+impl Shared {
+    fn newest(&self) -> GameSnapshot {
+        self.snapshot.lock().map(|s| s.clone()).unwrap_or_default()
+    }
+
+    /// The state once `pred` holds for it, or `None` after `timeout`.
+    fn wait_for(
+        &self,
+        timeout: Duration,
+        pred: impl Fn(&GameSnapshot) -> bool,
+    ) -> Option<GameSnapshot> {
+        let guard = self.snapshot.lock().ok()?;
+        let (guard, waited) = self
+            .updated
+            .wait_timeout_while(guard, timeout, |s| !pred(s))
+            .ok()?;
+        (!waited.timed_out() || pred(&guard)).then(|| guard.clone())
+    }
 }
 
 impl Monitor {
@@ -73,7 +101,7 @@ impl Monitor {
         let stream = TcpStream::connect(("127.0.0.1", port))?;
         stream.set_nodelay(true)?;
         let reader = stream.try_clone()?;
-        let state = Arc::new(Mutex::new(GameSnapshot::default()));
+        let state = Arc::new(Shared::default());
         let shared = Arc::clone(&state);
         std::thread::Builder::new()
             .name("monitor-reader".into())
@@ -87,7 +115,7 @@ impl Monitor {
                             // The scene's truth is worked out before the lock: readers
                             // (agents' truth feeds) wait on it every cycle.
                             let truth = scene.update(text).then(|| (scene.ball(), scene.robots()));
-                            if let Ok(mut s) = shared.lock() {
+                            if let Ok(mut s) = shared.snapshot.lock() {
                                 if update_simspark_state(text, &mut modes, &mut s) {
                                     s.frames += 1;
                                 }
@@ -96,14 +124,16 @@ impl Monitor {
                                     s.robots = robots;
                                 }
                             }
+                            shared.updated.notify_all();
                             continue;
                         }
                         if let Some(mut snapshot) = parse_game_state(text) {
-                            if let Ok(mut s) = shared.lock() {
+                            if let Ok(mut s) = shared.snapshot.lock() {
                                 snapshot.frames = s.frames + 1;
                                 snapshot.ball = parse_ball(text).or(s.ball);
                                 *s = snapshot;
                             }
+                            shared.updated.notify_all();
                         }
                     }
                 }
@@ -116,14 +146,31 @@ impl Monitor {
 
     /// The newest game state.
     pub fn snapshot(&self) -> GameSnapshot {
-        self.state.lock().map(|s| s.clone()).unwrap_or_default()
+        self.state.newest()
     }
 
     /// A reader of the newest game state for another thread (a field view), valid while the
     /// connection lives and frozen after it.
     pub fn reader(&self) -> impl Fn() -> GameSnapshot + Send + Sync + 'static {
         let state = Arc::clone(&self.state);
-        move || state.lock().map(|s| s.clone()).unwrap_or_default()
+        move || state.newest()
+    }
+
+    /// A reader for another thread that hands out the game state once the monitor's play time
+    /// has reached the time asked for, less `slack_s`, waiting at most `timeout` (then the
+    /// newest as it is): the reader thread can fall behind a fast sync-mode server, and a truth
+    /// compared with an agent's estimate must be of the same moment.
+    pub fn reader_at(
+        &self,
+        slack_s: f64,
+        timeout: Duration,
+    ) -> impl Fn(f64) -> GameSnapshot + Send + Sync + 'static {
+        let state = Arc::clone(&self.state);
+        move |time| {
+            state
+                .wait_for(timeout, |s| s.time + slack_s >= time)
+                .unwrap_or_else(|| state.newest())
+        }
     }
 
     /// Send raw monitor commands, e.g. `(kickOff Left)`.
@@ -152,15 +199,7 @@ impl Monitor {
         timeout: Duration,
         pred: impl Fn(&GameSnapshot) -> bool,
     ) -> Option<GameSnapshot> {
-        let deadline = Instant::now() + timeout;
-        while Instant::now() < deadline {
-            let s = self.snapshot();
-            if pred(&s) {
-                return Some(s);
-            }
-            std::thread::sleep(Duration::from_millis(10));
-        }
-        None
+        self.state.wait_for(timeout, pred)
     }
 }
 

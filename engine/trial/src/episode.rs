@@ -10,7 +10,8 @@ use libero_world::{Posture, World};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
 
-/// SimSpark's monitor reports every second cycle [s].
+/// SimSpark's monitor reports every second cycle [s]: a truth this much older than the
+/// percept is of the same moment.
 const MONITOR_STEP_S: f64 = 0.04;
 /// How long a cycle's truth may wait for the monitor to catch up with the agent.
 const MONITOR_CATCH_UP: std::time::Duration = std::time::Duration::from_millis(200);
@@ -381,26 +382,16 @@ impl Trial {
             Arc::clone(&stats),
         );
         if simspark {
-            let snapshot = self
+            // The server waits for this agent, so waiting for the monitor to reach the
+            // percept's play time keeps truth and estimate in step (the reader fell ~0.3 s
+            // behind: the NAO's localization read 18-19 cm at 0.6 m/s against an older truth).
+            let snapshot_at = self
                 .monitor
                 .lock()
                 .map_err(|_| TrialError::Monitor(std::io::Error::other("monitor lock poisoned")))?
-                .reader();
+                .reader_at(MONITOR_STEP_S, MONITOR_CATCH_UP);
             player.set_truth_feed(Arc::new(move |left, unum, play_time| {
-                // The monitor's reader runs on its own thread and can fall behind a fast
-                // sync-mode server by a few tenths of a second (the NAO's localization error
-                // read 18-19 cm at 0.6 m/s that way: the estimate against an older truth).
-                // The server waits for this agent, so waiting here for the monitor to reach the
-                // percept's play time keeps the two in step; bounded, so a stuck monitor costs
-                // at most a moment a cycle.
-                let deadline = std::time::Instant::now() + MONITOR_CATCH_UP;
-                let mut now = snapshot();
-                while now.time + MONITOR_STEP_S < play_time && std::time::Instant::now() < deadline
-                {
-                    std::thread::sleep(std::time::Duration::from_micros(200));
-                    now = snapshot();
-                }
-                let robots = now.robots;
+                let robots = snapshot_at(play_time).robots;
                 let robot = robots.iter().find(|r| r.left == left && r.unum == unum)?;
                 Some(libero_world::GroundTruth {
                     torso_position: Some(robot.torso),

@@ -162,11 +162,12 @@ impl GetUp {
             // asked): a jolt, e.g. being placed by the referee, can fake a fall for a moment,
             // and a get-up started while standing throws the robot down.
             let lain = self.lying_since.map_or(0.0, |since| world.time - since);
-            let still = p.rest_until_still.is_none_or(|r| {
-                lain >= r.at_most_s
-                    || Sensed::from_body(&world.body).rate_deg_s < r.rate_below_deg_s
-            });
-            let settled = self.lying_since.is_some() && lain >= p.rest_s && still;
+            let settled = self.lying_since.is_some()
+                && lain >= p.rest_s
+                && p.rest_until_still.is_none_or(|r| {
+                    lain >= r.at_most_s
+                        || Sensed::from_body(&world.body).rate_deg_s < r.rate_below_deg_s
+                });
             let Some(lying) = lying.filter(|_| settled || requested) else {
                 return false;
             };
@@ -181,7 +182,7 @@ impl GetUp {
             log::debug!(
                 "get-up: t {:.2} {lying:?} motion starts after {:.2} s lying; pitch {:.0}°, roll {:.0}°, rate {:.0}°/s",
                 world.time,
-                self.lying_since.map_or(0.0, |since| world.time - since),
+                lain,
                 sensed.attitude.pitch_deg,
                 sensed.attitude.roll_deg,
                 sensed.rate_deg_s

@@ -237,15 +237,18 @@ impl Kick {
             self.reset();
             return None;
         }
-        let finished = self
-            .running
-            .as_ref()
-            .is_none_or(|r| now - r.started_s >= r.plan.duration_s());
-        if finished {
+        if self.motion_over(now) {
             self.reset();
             return None;
         }
         Some(KickOutput::Motion)
+    }
+
+    /// The kick motion has played out (or none runs).
+    fn motion_over(&self, now: f64) -> bool {
+        self.running
+            .as_ref()
+            .is_none_or(|r| now - r.started_s >= r.plan.duration_s())
     }
 
     /// One cycle of a kick request. The kick starts only once the robot stands still at the
@@ -261,11 +264,7 @@ impl Kick {
         match self.state {
             KickState::Done => return KickOutput::Stand,
             KickState::Kicking => {
-                let finished = self
-                    .running
-                    .as_ref()
-                    .is_none_or(|r| now - r.started_s >= r.plan.duration_s());
-                if finished {
+                if self.motion_over(now) {
                     self.running = None;
                     self.state = KickState::Done;
                     return KickOutput::Stand;
