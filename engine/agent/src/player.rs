@@ -333,6 +333,7 @@ impl Player {
             && self.beamed_in != Some(mode);
         if beam_now {
             self.beamed_in = Some(mode);
+            self.skills.beamed();
         }
         stopwatch.lap(&self.stats.stages.skills_ns);
         write_actions(

@@ -52,6 +52,10 @@ pub struct DribbleParams {
     pub line_up_turn_deg_s: f64,
     pub clearance_m: f64,
     pub circle_radius_m: f64,
+    /// As the kick approach's `face_travel_beyond_deg`: walking round the ball, face the way
+    /// of travel while more than this arc is left [deg]; 360: always the line's heading.
+    #[serde(default = "crate::walk::face_travel_off")]
+    pub face_travel_beyond_deg: f64,
 }
 
 impl Default for DribbleParams {
@@ -76,6 +80,7 @@ impl Default for DribbleParams {
             line_up_turn_deg_s: 40.0,
             clearance_m: 0.3,
             circle_radius_m: 0.45,
+            face_travel_beyond_deg: crate::walk::face_travel_off(),
         }
     }
 }
@@ -111,6 +116,12 @@ impl DribbleParams {
             360.0,
         )?;
         in_range(&p("clearance_m"), self.clearance_m, 0.05, self.behind_m)?;
+        in_range(
+            &p("face_travel_beyond_deg"),
+            self.face_travel_beyond_deg,
+            0.0,
+            360.0,
+        )?;
         in_range(
             &p("circle_radius_m"),
             self.circle_radius_m,
@@ -218,6 +229,7 @@ impl Dribble {
             Clearance {
                 clearance_m: p.clearance_m,
                 circle_radius_m: p.circle_radius_m,
+                face_travel_beyond_deg: p.face_travel_beyond_deg,
             },
             w,
         )

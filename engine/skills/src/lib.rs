@@ -13,6 +13,8 @@ mod motion;
 pub mod params;
 pub mod pose;
 pub mod save;
+#[cfg(test)]
+mod stand_tests;
 pub mod walk;
 
 pub use dribble::{DribbleParams, DribbleState};
@@ -184,6 +186,15 @@ impl Skills {
             kick_geometry: kick::KickGeometry::of(&self.params.kick),
             save: self.save.state(),
         }
+    }
+
+    /// A beam was sent: the robot will stand where it lands, so a walk, kick or dribble
+    /// under way ends here (carried on, a walk lifted a foot of a robot the server had just
+    /// put down on straightened legs, and it fell).
+    pub fn beamed(&mut self) {
+        self.walk.reset();
+        self.kick.reset();
+        self.dribble.reset();
     }
 
     /// Where the save stands (`Idle` when none is asked for).
@@ -359,6 +370,8 @@ impl Skills {
         {
             self.after_dive = None;
         }
+        // Standing in the walk's posture, balanced (`stand_in_walk_posture`).
+        let mut stand_balanced = false;
         let active = if playing_motion {
             self.walk.reset();
             ActiveSkill::Motion
@@ -392,6 +405,10 @@ impl Skills {
             } else {
                 ActiveSkill::Walk
             }
+        } else if self.params.stand_in_walk_posture && !settling {
+            self.walk.update(world, None, walk_params, &mut self.pose);
+            stand_balanced = true;
+            ActiveSkill::Stand
         } else {
             ActiveSkill::Stand
         };
@@ -450,10 +467,12 @@ impl Skills {
                 .unwrap_or(DiveSide::Centre);
             self.gains.save(side, out);
         }
-        if matches!(
-            self.active,
-            ActiveSkill::Walk | ActiveSkill::Dribble | ActiveSkill::Kick
-        ) {
+        if stand_balanced
+            || matches!(
+                self.active,
+                ActiveSkill::Walk | ActiveSkill::Dribble | ActiveSkill::Kick
+            )
+        {
             self.gains.walk(out);
         }
         if self.active == ActiveSkill::Kick {

@@ -24,6 +24,12 @@ pub struct SkillParams {
     pub robot: String,
     /// Stand posture: joint name → angle [deg]; unlisted joints are 0.
     pub stand: BTreeMap<String, f64>,
+    /// Once it has walked, a standing robot stays in the walk's posture with the walk's
+    /// balance corrections (`walk.balance.rest_correction_scale`) rather than going back to
+    /// `stand`: the change to the taller pose after a walk rocked the T1 toe to heel by ±5°
+    /// and, after a turn or a beam, over (NOTES.md, session 15).
+    #[serde(default)]
+    pub stand_in_walk_posture: bool,
     pub look_around: LookAround,
     pub walk: WalkParams,
     pub get_up: GetUpParams,

@@ -55,6 +55,9 @@ pub struct AvoidanceParams {
     pub handover_m: f64,
     /// The point `KickTo` walks to lies this far behind the ball on the kick line [m].
     pub behind_ball_m: f64,
+    /// A rolling ball is walked to where it is met at this speed on its predicted path (or
+    /// where it comes to rest) [m/s].
+    pub meeting_speed_m_s: f64,
     pub grid: GridParams,
 }
 
@@ -69,6 +72,7 @@ impl Default for AvoidanceParams {
             memory_s: 3.0,
             handover_m: 1.2,
             behind_ball_m: 0.7,
+            meeting_speed_m_s: 0.5,
             grid: GridParams {
                 cell_m: 0.2,
                 inflation_m: 0.1,

@@ -166,7 +166,7 @@ fn field_player_beams_to_its_kick_off_position_before_kick_off() {
 }
 
 #[test]
-fn striker_shoots_near_the_goal_kicks_long_from_far_and_dribbles_where_no_shot_is_open() {
+fn striker_shoots_near_the_goal_kicks_long_from_far_and_crosses_from_the_goal_line() {
     // 8 m out in front of an empty goal: the shot's chance clears the threshold.
     let w = world(
         5,
@@ -209,8 +209,8 @@ fn striker_shoots_near_the_goal_kicks_long_from_far_and_dribbles_where_no_shot_i
     assert!(direction_deg.abs() < 15.0, "{direction_deg}");
 
     // 11 m from the goal centre, almost on the goal line, where the mouth is too narrow for a
-    // shot:
-    // the ball, 1 m ahead, is walked on towards the goal.
+    // shot: a long kick across the front of the goal (2 m out on the centre line), not a
+    // dribble.
     let w = world(
         5,
         Own::new(26.5, 10.0),
@@ -218,24 +218,20 @@ fn striker_shoots_near_the_goal_kicks_long_from_far_and_dribbles_where_no_shot_i
         PlayMode::PlayOn,
     );
     let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
-    let BodyIntent::Dribble {
-        ball,
+    let BodyIntent::Kick {
         direction_deg,
+        distance_m,
+        ..
     } = intent.body
     else {
-        panic!("no dribble: {:?}", intent.body)
+        panic!("no cross: {:?}", intent.body)
     };
-    let at = own_of(&w, ball);
-    assert!(
-        (at.x - 27.0).abs() < 0.05 && (at.y - 11.0).abs() < 0.05,
-        "{at:?}"
-    );
-    // Towards the goal centre.
-    let towards = (-11.0f64).atan2(0.5).to_degrees();
+    let towards = (-11.0f64).atan2(25.5 - 27.0).to_degrees();
     assert!(
         (direction_deg - towards).abs() < 5.0,
         "{direction_deg} vs {towards}"
     );
+    assert!((distance_m - 11.1).abs() < 0.2, "{distance_m}");
 }
 
 #[test]

@@ -186,6 +186,7 @@ pub fn step(
         Clearance {
             clearance_m: a.clearance_m,
             circle_radius_m: a.circle_radius_m,
+            face_travel_beyond_deg: a.face_travel_beyond_deg,
         },
         w,
     );
@@ -203,8 +204,11 @@ pub fn step(
 pub struct Clearance {
     /// Straight paths keep the torso at least this far from the ball centre [m] ...
     pub clearance_m: f64,
-    /// ... otherwise the robot walks round the ball on a circle of this radius [m].
+    /// ... otherwise the robot walks round the ball on a circle of this radius [m] ...
     pub circle_radius_m: f64,
+    /// ... facing the way it walks while more than this arc is left [deg] (see
+    /// `KickApproach::face_travel_beyond_deg`).
+    pub face_travel_beyond_deg: f64,
 }
 
 /// The walk command towards `place` (robot frame) ending with heading `heading_deg` (relative
@@ -231,9 +235,26 @@ pub fn walk_round_ball(
         let step = turn.clamp(-ARC_STEP_DEG, ARC_STEP_DEG);
         let dir =
             Rotation2::new(step.to_radians()) * from.try_normalize(1e-9).unwrap_or(-to.normalize());
-        b + dir * c.circle_radius_m
+        let waypoint = b + dir * c.circle_radius_m;
+        let heading = facing_on_the_circle(waypoint, heading_deg, turn, c.face_travel_beyond_deg);
+        return walk_to::velocity_towards([waypoint.x, waypoint.y], heading, w).unwrap_or_default();
     };
     walk_to::velocity_towards([target.x, target.y], heading_deg, w).unwrap_or_default()
+}
+
+/// The heading [deg, robot frame] to hold on the way to `waypoint` on the circle round the
+/// ball with `arc_left_deg` still to go: the way of travel while more than `beyond_deg` is
+/// left, the final `heading_deg` with less than half of it, blended in between.
+fn facing_on_the_circle(
+    waypoint: Vector2<f64>,
+    heading_deg: f64,
+    arc_left_deg: f64,
+    beyond_deg: f64,
+) -> f64 {
+    let travel = waypoint.y.atan2(waypoint.x).to_degrees();
+    let half = beyond_deg * 0.5;
+    let blend = ((arc_left_deg.abs() - half) / half.max(1e-9)).clamp(0.0, 1.0);
+    wrap_deg(heading_deg + wrap_deg(travel - heading_deg) * blend)
 }
 
 #[cfg(test)]
@@ -286,6 +307,35 @@ mod tests {
             panic!("not ready 1 m away");
         };
         assert!(v.forward_m_s > 0.0, "{v:?}");
+    }
+
+    #[test]
+    fn round_the_ball_it_faces_the_way_it_walks_and_turns_to_the_kick_heading_near_the_place() {
+        // Travel bearing 45°, kick heading -90°: far round the arc it faces the travel, near
+        // the place the kick heading, half way between them in the blend.
+        let waypoint = Vector2::new(0.3, 0.3);
+        assert!((facing_on_the_circle(waypoint, -90.0, 120.0, 60.0) - 45.0).abs() < 1e-9);
+        assert!((facing_on_the_circle(waypoint, -90.0, -20.0, 60.0) + 90.0).abs() < 1e-9);
+        assert!((facing_on_the_circle(waypoint, -90.0, 45.0, 60.0) + 22.5).abs() < 1e-9);
+        // 360 (off): always the kick heading.
+        assert!((facing_on_the_circle(waypoint, -90.0, 179.0, 360.0) + 90.0).abs() < 1e-9);
+
+        // The ball beside the robot, the place on its far side: walking round it, the robot
+        // turns towards the way it walks (the next point of the circle, ahead and to the
+        // left, behind) with the shipped T1 numbers; without, towards the kick heading (-60°).
+        let (mut a, w) = params();
+        let ball = [0.0, 0.45];
+        let turn = |a: &KickApproach| {
+            let ApproachStep::Walk(v) = step(ball, -60.0, Foot::Left, STILL, a, &w) else {
+                panic!("ready beside the ball");
+            };
+            v.turn_deg_s
+        };
+        assert!(a.face_travel_beyond_deg < 180.0);
+        let facing = turn(&a);
+        a.face_travel_beyond_deg = 360.0;
+        let heading = turn(&a);
+        assert!(facing > 5.0 && heading < -5.0, "{facing} vs {heading}");
     }
 
     #[test]

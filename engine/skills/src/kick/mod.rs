@@ -326,7 +326,10 @@ impl Kick {
         self.looking = looking;
         let correction = match step {
             ApproachStep::Walk(v) => {
-                log::trace!("kick: approach {v:?}");
+                log::trace!(
+                    "kick: t {now:.2} approach {v:?}, ball at {:.3?}",
+                    request.ball
+                );
                 self.failed_looks = 0;
                 self.correcting_until = None;
                 self.not_still();

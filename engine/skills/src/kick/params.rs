@@ -59,6 +59,12 @@ pub struct KickApproach {
     /// Radius of the circle walked around the ball [m] (torso to ball centre): wider than the
     /// clearance, since turning and side-stepping feet reach out beyond the torso.
     pub circle_radius_m: f64,
+    /// Walking round the ball with more than this arc still to go [deg], the robot faces the
+    /// way it walks (forwards is about twice as fast as sideways or backwards); with less
+    /// than half of it left it turns to the kick heading, and in between it blends the two.
+    /// 360 (the default): always the kick heading.
+    #[serde(default = "crate::walk::face_travel_off")]
+    pub face_travel_beyond_deg: f64,
     /// Speed cap while walking to the kicking place [m/s].
     pub approach_speed_m_s: f64,
     /// Fastest turn while walking there [deg/s]: the walk's fastest turn on top of walking
@@ -197,6 +203,12 @@ impl KickParams {
         in_range(&p("ball_beside_m"), a.ball_beside_m, 0.0, 0.3)?;
         in_range(&p("clearance_m"), a.clearance_m, 0.1, 2.0)?;
         in_range(&p("circle_radius_m"), a.circle_radius_m, a.clearance_m, 3.0)?;
+        in_range(
+            &p("face_travel_beyond_deg"),
+            a.face_travel_beyond_deg,
+            0.0,
+            360.0,
+        )?;
         in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
         in_range(&p("approach_turn_deg_s"), a.approach_turn_deg_s, 1.0, 360.0)?;
         in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;

@@ -20,6 +20,12 @@ use libero_world::World;
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 pub use params::{BalanceParams, WalkParams, WalkToParams};
 
+/// The serde default of the `face_travel_beyond_deg` fields (kick approach, dribble): off, an
+/// arc round the ball is never longer than 180°.
+pub(crate) fn face_travel_off() -> f64 {
+    360.0
+}
+
 /// A walk command in the robot's own frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Velocity {

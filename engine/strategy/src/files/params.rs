@@ -179,6 +179,7 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
     let memory_s = num("memory_s", 0.0, 30.0, d.memory_s);
     let handover_m = num("handover_m", 0.3, 5.0, d.handover_m);
     let behind_ball_m = num("behind_ball_m", 0.2, 3.0, d.behind_ball_m);
+    let meeting_speed_m_s = num("meeting_speed_m_s", 0.05, 3.0, d.meeting_speed_m_s);
     fields.finish(
         decoder,
         &[
@@ -190,6 +191,7 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
             "memory_s",
             "handover_m",
             "behind_ball_m",
+            "meeting_speed_m_s",
             "grid",
         ],
     );
@@ -206,6 +208,7 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
         memory_s: memory_s?,
         handover_m: handover_m?,
         behind_ball_m: behind_ball_m?,
+        meeting_speed_m_s: meeting_speed_m_s?,
         grid: grid?,
     };
     if params.behind_ball_m >= params.handover_m {

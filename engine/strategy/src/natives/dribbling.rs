@@ -59,7 +59,6 @@ impl AgentHost<'_> {
             return Status::Success;
         }
         let me = self.me();
-        let direction = ball.bearing_to(target);
         let avoidance = self.strategy.avoidance.unwrap_or_default();
         let dribbling = self.skills.dribble != libero_skills::DribbleState::Idle;
         // Far from the ball, walk round obstacles (the ball among them) to behind it on the
@@ -70,7 +69,8 @@ impl AgentHost<'_> {
             return Status::Running;
         }
         if !dribbling && me.distance(ball) > avoidance.handover_m {
-            self.walk_behind_ball(ball, direction);
+            let (_, meet) = self.meeting(me, avoidance.meeting_speed_m_s);
+            self.walk_behind_ball(meet, meet.bearing_to(target));
             return Status::Running;
         }
         let heading = world

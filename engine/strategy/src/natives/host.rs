@@ -70,6 +70,9 @@ impl<'a> AgentHost<'a> {
     }
 }
 
+/// A player meets the ball once it is this close [m] (a step's reach).
+const MEETING_REACH_M: f64 = 0.3;
+
 /// A tree value (always own frame) as a typed own-frame point.
 pub(crate) fn own(v: Vec2) -> Own {
     Own::new(v.x, v.y)
@@ -92,6 +95,56 @@ impl AgentHost<'_> {
 
     pub(crate) fn ball(&self) -> Own {
         self.own_of(self.world.ball.position)
+    }
+
+    /// Where the ball comes to rest (the world model's prediction; the ball itself when it
+    /// lies still): what positions are taken for, so that a long kick's receivers move on
+    /// while it rolls.
+    pub(crate) fn ball_at_rest(&self) -> Own {
+        if self.ball_rolls() {
+            self.own_of(self.world.ball.predicted_stop)
+        } else {
+            self.ball()
+        }
+    }
+
+    /// The world model has the ball moving (it publishes no speed for the jitter of a ball
+    /// at rest).
+    fn ball_rolls(&self) -> bool {
+        let [vx, vy] = self.world.ball.velocity;
+        vx.hypot(vy) > 0.0
+    }
+
+    /// The earliest time [s] and place a player at `from` walking at `speed` meets the ball
+    /// (within `MEETING_REACH_M`), or walking to where it comes to rest when it cannot.
+    pub(crate) fn meeting(&self, from: Own, speed: f64) -> (f64, Own) {
+        if !self.ball_rolls() {
+            let ball = self.ball();
+            return (from.distance(ball) / speed.max(1e-3), ball);
+        }
+        let ball = &self.world.ball;
+        match ball.interception(self.global_of(from).to_array(), speed, MEETING_REACH_M) {
+            Some((t, at)) => (t, self.own_of(at)),
+            None => {
+                let rest = self.ball_at_rest();
+                (from.distance(rest) / speed.max(1e-3), rest)
+            }
+        }
+    }
+
+    /// While the robot still walks (or kicks, dribbles), it is asked to stand: the server
+    /// puts a beamed robot down on straightened legs, and one beamed mid-step fell (all six
+    /// field players after a goal, NOTES.md session 15).
+    pub(crate) fn still_moving_before_a_beam(&mut self) -> bool {
+        use libero_skills::ActiveSkill;
+        let moving = matches!(
+            self.skills.active,
+            ActiveSkill::Walk | ActiveSkill::Dribble | ActiveSkill::Kick
+        );
+        if moving {
+            self.intent.body = libero_skills::BodyIntent::Stand;
+        }
+        moving
     }
 
     pub(crate) fn me(&self) -> Own {
@@ -180,7 +233,7 @@ impl AgentHost<'_> {
         }
         let formation_target = self
             .strategy
-            .position(situation, slot, value(self.ball()))
+            .position(situation, slot, value(self.ball_at_rest()))
             .map(|p| self.global_of(own(p)));
         let defense_point = (self.unum() == 1).then(|| self.global_of(self.defense_point()));
         let shot = self

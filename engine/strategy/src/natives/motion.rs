@@ -19,11 +19,14 @@ pub(super) const NODES: &[Native] = &[
 fn beam_to_formation_ports() -> NodeSpec {
     NodeSpec::action(
         "BeamToFormation",
-        "Beams to this player's kick-off formation position; succeeds when placed.",
+        "Beams to this player's kick-off formation position, once the walk has come to a stop (a robot beamed mid-step falls); succeeds when placed.",
     )
 }
 
 fn beam_to_formation(host: &mut AgentHost, _: &Ports) -> Status {
+    if host.still_moving_before_a_beam() {
+        return Status::Running;
+    }
     let p = host
         .strategy
         .position(
@@ -299,12 +302,13 @@ impl AgentHost<'_> {
         }
         let ball = self.ball();
         let me = self.me();
-        let direction = ball.bearing_to(target);
         let avoidance = self.strategy.avoidance.unwrap_or_default();
         // Far from the ball (and not yet kicking), walk round obstacles, the ball among them, to
         // a point behind it on the kick line; there the kick skill's own approach takes over.
         if self.skills.kick == KickState::Idle && me.distance(ball) > avoidance.handover_m {
-            self.walk_behind_ball(ball, direction);
+            // A rolling ball: to where it is met, kicked on from there towards the target.
+            let (_, meet) = self.meeting(me, avoidance.meeting_speed_m_s);
+            self.walk_behind_ball(meet, meet.bearing_to(target));
             return Status::Running;
         }
         let heading = self

@@ -2,7 +2,7 @@
 
 use super::host::{own, value};
 use super::{AgentHost, Native, Ports};
-use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType};
+use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType, Vec2};
 use libero_world::{Own, Relation};
 
 pub(super) const NODES: &[Native] = &[
@@ -42,12 +42,20 @@ fn opponent_goal_ports() -> NodeSpec {
     NodeSpec::query(
         "opponent_goal",
         ValueType::Vec2,
-        "Centre of the opponent's goal line (m, own frame), from the team file's field.",
+        "Centre of the opponent's goal line (m, own frame), from the team file's field; with `in_front`, the point that far in front of it on the field's long axis (where a cross from the wing is aimed).",
+    )
+    .param(
+        ParamSpec::new("in_front", ValueType::Float)
+            .unit("m")
+            .range(0.0, 30.0)
+            .default(Value::Float(0.0))
+            .doc("distance in front of the goal line"),
     )
 }
 
-fn opponent_goal(host: &AgentHost, _: &Ports) -> Value {
-    Value::Vec2(host.strategy.field().opponent_goal())
+fn opponent_goal(host: &AgentHost, ports: &Ports) -> Value {
+    let goal = host.strategy.field().opponent_goal();
+    Value::Vec2(Vec2::new(goal.x - ports.float("in_front"), goal.y))
 }
 
 fn ball_position_ports() -> NodeSpec {
@@ -104,7 +112,7 @@ fn formation_position_ports() -> NodeSpec {
 fn formation_position(host: &AgentHost, ports: &Ports) -> Value {
     let position = host
         .strategy
-        .position(host.situation(), host.slot(), value(host.ball()))
+        .position(host.situation(), host.slot(), value(host.ball_at_rest()))
         .unwrap_or_else(|| value(host.me()));
     let clear = ports.float("clear_of_ball");
     Value::Vec2(value(clear_of(own(position), host.ball(), clear)))

@@ -60,7 +60,7 @@ fn role_position(host: &AgentHost, ports: &Ports) -> Value {
 fn beam_to_kick_place_ports() -> NodeSpec {
     NodeSpec::action(
         "BeamToKickPlace",
-        "Beams to the kick skill's kicking place for a ball at `spot` kicked towards `target` (its place behind the ball from the skill parameters, facing along the kick): the set-play taker is ready to kick when play starts. Succeeds when placed.",
+        "Beams to the kick skill's kicking place for a ball at `spot` kicked towards `target` (its place behind the ball from the skill parameters, facing along the kick): the set-play taker is ready to kick when play starts. Beams once the walk has come to a stop; succeeds when placed.",
     )
     .param(
         ParamSpec::new("target", ValueType::Vec2)
@@ -76,6 +76,9 @@ fn beam_to_kick_place_ports() -> NodeSpec {
 }
 
 fn beam_to_kick_place(host: &mut AgentHost, ports: &Ports) -> Status {
+    if host.still_moving_before_a_beam() {
+        return Status::Running;
+    }
     let spot = own(ports.vec2("spot"));
     let target = own(ports.vec2("target"));
     let geometry = host.skills.kick_geometry;

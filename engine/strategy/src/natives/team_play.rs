@@ -22,7 +22,7 @@ fn am_ball_winner_ports() -> NodeSpec {
     NodeSpec::query(
         "am_ball_winner",
         ValueType::Bool,
-        "True when this player reaches the ball first of the field players: its predicted time (distance at `walk_speed`, the turn to face the ball at `turn_rate`, `get_up` when lying) against each teammate's claim heard in the last second, or the same prediction from where it was seen. Once winner, a teammate must be `hysteresis` faster to take over. This player's time is what it tells its teammates.",
+        "True when this player reaches the ball first of the field players: its predicted time (to meet the ball walking at `walk_speed`: a rolling ball where its path is reached first, else where it comes to rest; the turn to face that point at `turn_rate`; `get_up` when lying) against each teammate's claim heard in the last second, or the same prediction from where it was seen. Once winner, a teammate must be `hysteresis` faster to take over. This player's time is what it tells its teammates.",
     )
     .param(
         ParamSpec::new("walk_speed", ValueType::Float)
@@ -62,10 +62,12 @@ struct Pace {
 }
 
 impl Pace {
-    fn time(&self, from: Own, heading_deg: Option<f64>, fallen: bool, ball: Own) -> f64 {
-        let walk = from.distance(ball) / self.walk_speed;
+    /// The time to meet the ball (a rolling one where its path can be reached first) from
+    /// `from`, turning there from `heading_deg`.
+    fn time(&self, host: &AgentHost, from: Own, heading_deg: Option<f64>, fallen: bool) -> f64 {
+        let (walk, at) = host.meeting(from, self.walk_speed);
         let turn = heading_deg.map_or(0.0, |h| {
-            let to_ball = from.bearing_to(ball).to_degrees();
+            let to_ball = from.bearing_to(at).to_degrees();
             libero_world::geometry::wrap_deg(to_ball - h).abs() / self.turn_rate
         });
         walk + turn + if fallen { self.get_up } else { 0.0 }
@@ -79,13 +81,12 @@ fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
         get_up: ports.float("get_up"),
     };
     let world = host.world;
-    let ball = host.ball();
     let fallen = world.body.posture != libero_world::Posture::Upright;
     let mine = pace.time(
+        host,
         host.me(),
         Some(world.yaw_to_own_frame(world.me.yaw_deg)),
         fallen,
-        ball,
     );
     host.memory.time_to_ball.set(Some(mine));
     let now = world.time;
@@ -105,10 +106,10 @@ fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
                 .filter(|t| *t < TIME_TO_BALL_MAX_S - 1e-6);
             heard.unwrap_or_else(|| {
                 pace.time(
+                    host,
                     host.own_of(p.position),
                     p.heading_deg.map(|h| world.yaw_to_own_frame(h)),
                     p.fallen,
-                    ball,
                 )
             })
         })
@@ -157,7 +158,8 @@ impl AgentHost<'_> {
         let Some(formation) = self.strategy.formation_for(situation) else {
             return unum;
         };
-        let ball_at = self.ball();
+        // Slots for where the ball will lie: a long kick's receivers move on while it rolls.
+        let ball_at = self.ball_at_rest();
         let ball = super::host::value(ball_at);
         let mut slots: ArrayVec<Slot, MAX_PLAYERS> = formation
             .roles

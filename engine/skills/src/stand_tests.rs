@@ -1,0 +1,93 @@
+//! Standing after a walk: in the walk's posture with its balance corrections, or in the stand
+//! pose (`SkillParams::stand_in_walk_posture`).
+
+use crate::walk::Walk;
+use crate::{ActiveSkill, BodyIntent, Intent, JointTargets, SkillParams, Skills};
+use libero_model::RobotModel;
+use libero_world::World;
+
+/// The knee and ankle-roll targets once a robot that walked has stood for a while, with the
+/// torso rolling at `roll_rate` [deg/s].
+fn standing_after_a_walk(in_walk_posture: bool, roll_rate: f64) -> (ActiveSkill, f64, f64) {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut params = SkillParams::builtin(&model).unwrap();
+    params.stand_in_walk_posture = in_walk_posture;
+    let mut skills = Skills::new(&model, params).unwrap();
+    let mut world = World::new(&model, "t", 1);
+    let mut out = JointTargets::default();
+    let walk = Intent {
+        body: BodyIntent::Walk {
+            forward_m_s: 0.3,
+            sideways_m_s: 0.0,
+            turn_deg_s: 0.0,
+        },
+        ..Intent::default()
+    };
+    let stand = Intent {
+        body: BodyIntent::Stand,
+        ..Intent::default()
+    };
+    for i in 0..300 {
+        world.time += 0.02;
+        world.body.gyro = if i >= 250 {
+            [roll_rate, 0.0, 0.0]
+        } else {
+            [0.0; 3]
+        };
+        skills.act(
+            &model,
+            &world,
+            if i < 100 { &walk } else { &stand },
+            &mut out,
+        );
+    }
+    let knee = model.joint_id("left_knee").unwrap();
+    let roll = model.joint_id("left_ankle_roll").unwrap();
+    (
+        skills.active(),
+        out.joints[knee].q_deg,
+        out.joints[roll].q_deg,
+    )
+}
+
+#[test]
+fn after_a_walk_the_robot_stands_in_the_walk_posture_and_keeps_balancing() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let params = SkillParams::builtin(&model).unwrap();
+    assert!(
+        params.stand_in_walk_posture,
+        "the shipped T1 stands balanced"
+    );
+    // The walk's own rest posture, for comparison.
+    let mut rest = params.stand_pose(&model).unwrap();
+    Walk::new(&model)
+        .unwrap()
+        .update(&World::new(&model, "t", 1), None, &params.walk, &mut rest);
+    let knee = model.joint_id("left_knee").unwrap();
+    let stand_knee = params.stand["left_knee"];
+    assert!(
+        (rest[knee] - stand_knee).abs() > 1.0,
+        "the two postures differ"
+    );
+
+    let (active, knee_deg, roll_still) = standing_after_a_walk(true, 0.0);
+    assert_eq!(active, ActiveSkill::Stand);
+    assert!(
+        (knee_deg - rest[knee]).abs() < 0.5,
+        "{knee_deg} vs {}",
+        rest[knee]
+    );
+    // The walk's balance corrections act on a rolling torso.
+    let (_, _, roll_swaying) = standing_after_a_walk(true, 10.0);
+    assert!(
+        (roll_swaying - roll_still).abs() > 0.1,
+        "{roll_still} {roll_swaying}"
+    );
+
+    // Without it, the robot goes back to the stand pose, which does not balance.
+    let (active, knee_deg, roll_still) = standing_after_a_walk(false, 0.0);
+    assert_eq!(active, ActiveSkill::Stand);
+    assert!((knee_deg - stand_knee).abs() < 1e-6, "{knee_deg}");
+    let (_, _, roll_swaying) = standing_after_a_walk(false, 10.0);
+    assert_eq!(roll_swaying, roll_still);
+}
