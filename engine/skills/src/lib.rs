@@ -95,6 +95,9 @@ pub struct Skills {
     after_dive: Option<(DiveSide, Vec<f64>)>,
     /// Standing after a get-up until the body has settled (`get_up.settle`).
     settling: Option<getup::Settling>,
+    /// The robot has walked since it was last put down (a beam, a placement, a get-up): it
+    /// stands in the walk's posture (`stand_in_walk_posture`).
+    walked: bool,
     active: ActiveSkill,
     blend: Option<Blend>,
     /// The pose the blend starts from (kept: a blend starts at every change of skill).
@@ -121,6 +124,7 @@ impl Skills {
             motion: motion::MotionPlayer::new(model.joints.len()),
             after_dive: None,
             settling: None,
+            walked: false,
             gains: gains::GainTable::new(model, &params),
             save_motions: params.save.motions(),
             params,
@@ -192,6 +196,7 @@ impl Skills {
     /// under way ends here (carried on, a walk lifted a foot of a robot the server had just
     /// put down on straightened legs, and it fell).
     pub fn beamed(&mut self) {
+        self.walked = false;
         self.walk.reset();
         self.kick.reset();
         self.dribble.reset();
@@ -370,7 +375,14 @@ impl Skills {
         {
             self.after_dive = None;
         }
-        // Standing in the walk's posture, balanced (`stand_in_walk_posture`).
+        // Standing in the walk's posture, balanced (`stand_in_walk_posture`), once it walked;
+        // a robot the server put down (its joints straightened: a beam, a placement) or one
+        // getting up starts again from the stand pose, which it lands in without a drop.
+        if getting_up || saving || joints_were_reset(world, &self.last_pose) {
+            self.walked = false;
+        } else if self.walk.is_stepping() {
+            self.walked = true;
+        }
         let mut stand_balanced = false;
         let active = if playing_motion {
             self.walk.reset();
@@ -405,7 +417,7 @@ impl Skills {
             } else {
                 ActiveSkill::Walk
             }
-        } else if self.params.stand_in_walk_posture && !settling {
+        } else if self.params.stand_in_walk_posture && self.walked && !settling {
             self.walk.update(world, None, walk_params, &mut self.pose);
             stand_balanced = true;
             ActiveSkill::Stand
@@ -544,4 +556,23 @@ impl Skills {
             *q = from + (*q - from) * w;
         }
     }
+}
+
+/// Mean difference between the measured and the last commanded joint angles beyond which the
+/// server, not the robot, has moved the joints [deg]: a beam or a monitor placement sets every
+/// joint to 0 (rcssservermj), while tracking errors average a few degrees.
+const JOINTS_RESET_MEAN_DEG: f64 = 10.0;
+
+fn joints_were_reset(world: &World, last_pose: &[f64]) -> bool {
+    let measured = &world.body.joint_angles;
+    let n = measured.len().min(last_pose.len());
+    if n == 0 {
+        return false;
+    }
+    let total: f64 = measured
+        .iter()
+        .zip(last_pose)
+        .map(|(m, c)| (m - c).abs())
+        .sum();
+    total / n as f64 > JOINTS_RESET_MEAN_DEG
 }

@@ -40,6 +40,8 @@ fn standing_after_a_walk(in_walk_posture: bool, roll_rate: f64) -> (ActiveSkill,
             if i < 100 { &walk } else { &stand },
             &mut out,
         );
+        // The joints follow their targets.
+        world.body.joint_angles = out.joints.iter().map(|j| j.q_deg).collect();
     }
     let knee = model.joint_id("left_knee").unwrap();
     let roll = model.joint_id("left_ankle_roll").unwrap();
@@ -90,4 +92,50 @@ fn after_a_walk_the_robot_stands_in_the_walk_posture_and_keeps_balancing() {
     assert!((knee_deg - stand_knee).abs() < 1e-6, "{knee_deg}");
     let (_, _, roll_swaying) = standing_after_a_walk(false, 10.0);
     assert_eq!(roll_swaying, roll_still);
+}
+
+#[test]
+fn a_robot_the_server_put_down_stands_in_the_stand_pose_until_it_walks_again() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let params = SkillParams::builtin(&model).unwrap();
+    let knee = model.joint_id("left_knee").unwrap();
+    let stand_knee = params.stand["left_knee"];
+    let mut skills = Skills::new(&model, params).unwrap();
+    let mut world = World::new(&model, "t", 1);
+    let mut out = JointTargets::default();
+    let intent = |body| Intent {
+        body,
+        ..Intent::default()
+    };
+    let walk = intent(BodyIntent::Walk {
+        forward_m_s: 0.3,
+        sideways_m_s: 0.0,
+        turn_deg_s: 0.0,
+    });
+    let stand = intent(BodyIntent::Stand);
+    let mut run = |world: &mut World, intent: &Intent, cycles: usize, placed: bool| {
+        for i in 0..cycles {
+            world.time += 0.02;
+            skills.act(&model, world, intent, &mut out);
+            world.body.joint_angles = if placed && i == 0 {
+                // A placement: the server straightens every joint.
+                vec![0.0; out.joints.len()]
+            } else {
+                out.joints.iter().map(|j| j.q_deg).collect()
+            };
+        }
+        out.joints[knee].q_deg
+    };
+    run(&mut world, &walk, 100, false);
+    let walked = run(&mut world, &stand, 100, false);
+    assert!((walked - stand_knee).abs() > 1.0, "{walked}");
+    // Put down while standing: the stand pose, until it walks again.
+    let placed = run(&mut world, &stand, 100, true);
+    assert!((placed - stand_knee).abs() < 1e-6, "{placed}");
+    run(&mut world, &walk, 100, false);
+    let walked_again = run(&mut world, &stand, 100, false);
+    assert!(
+        (walked_again - walked).abs() < 0.5,
+        "{walked_again} vs {walked}"
+    );
 }

@@ -487,9 +487,9 @@ mod team_play {
     #[test]
     fn the_ball_winner_takes_the_slot_nearest_the_ball_and_the_others_share_the_rest() {
         // In `attack` with the ball at the centre the slot nearest the ball is the centre
-        // midfielder's (5) at (-4, 0); the striker's (7) is at (6, 0), drawn a tenth of the way
-        // to the ball: (5.4, 0).
-        let mut w = world([5.5, 0.0], [0.0, 0.0]);
+        // midfielder's (5) at (-4, 0); the striker's (7) is at (10, 0), drawn a tenth of the way
+        // to the ball: (9, 0).
+        let mut w = world([9.5, 0.0], [0.0, 0.0]);
         let mut memory = PlayerMemory::default();
         memory.ball_winner.set(true);
         let at = formation_position(&w, &mut memory);
@@ -497,15 +497,18 @@ mod team_play {
             (at.x + 4.0).abs() < 0.01 && at.y.abs() < 0.01,
             "winner: {at:?}"
         );
-        // Not the winner: teammate 5 claims the ball (heard), so it is out of the assignment
-        // and we, standing by the striker's slot, take it.
+        // Not the winner: teammate 5 claims the ball (heard), so it is out of the assignment;
+        // we stand by the striker's slot and the striker (7) by ours, the left back's at
+        // (-12, 5): we swap.
         memory.ball_winner.set(false);
         w.heard.claims.push((5, Some(1.0), 19.9));
         w.players
             .heard(Relation::Teammate, 5, [0.5, 0.0], Some(false), 19.9);
+        w.players
+            .heard(Relation::Teammate, 7, [-11.5, 5.0], Some(false), 19.9);
         let at = formation_position(&w, &mut PlayerMemory::default());
         assert!(
-            (at.x - 5.4).abs() < 0.01 && at.y.abs() < 0.01,
+            (at.x - 9.0).abs() < 0.01 && at.y.abs() < 0.01,
             "supporter: {at:?}"
         );
     }
