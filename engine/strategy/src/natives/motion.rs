@@ -16,6 +16,10 @@ pub(super) const NODES: &[Native] = &[
     Native::action(search_ball_ports, search_ball),
 ];
 
+/// An approach under way is given up for the walk behind the ball once the ball is this many
+/// hand-over distances away (the hand-over itself wobbles with the estimates).
+const REAPPROACH_BEYOND_HANDOVER: f64 = 2.0;
+
 fn beam_to_formation_ports() -> NodeSpec {
     NodeSpec::action(
         "BeamToFormation",
@@ -305,7 +309,15 @@ impl AgentHost<'_> {
         let avoidance = self.strategy.avoidance.unwrap_or_default();
         // Far from the ball (and not yet kicking), walk round obstacles, the ball among them, to
         // a point behind it on the kick line; there the kick skill's own approach takes over.
-        if self.skills.kick == KickState::Idle && me.distance(ball) > avoidance.handover_m {
+        // A ball that rolled away from an approach under way (kicked on by another robot) is
+        // walked after again: the approach walks at its own slow speed and round nothing.
+        let far = me.distance(ball) > avoidance.handover_m * REAPPROACH_BEYOND_HANDOVER;
+        let approaching = match self.skills.kick {
+            KickState::Idle => false,
+            KickState::Approaching => !far,
+            _ => true,
+        };
+        if !approaching && me.distance(ball) > avoidance.handover_m {
             // A rolling ball: to where it is met, kicked on from there towards the target.
             let (_, meet) = self.meeting(me, avoidance.meeting_speed_m_s);
             self.walk_behind_ball(meet, meet.bearing_to(target));
