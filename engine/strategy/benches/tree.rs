@@ -30,8 +30,8 @@ impl Host for BenchHost {
         match self.ids.spec(id).name.as_str() {
             "am_ball_winner" => Value::Bool(true),
             "ball_distance" => Value::Float(3.0),
-            // Within a long kick's roll of the goal: the dribble branch.
-            "distance" => Value::Float(8.0),
+            // Within 4 m of their goal (no shot): the dribble branch.
+            "distance" => Value::Float(3.0),
             "ball_position" => Value::Vec2(Vec2::new(1.0, 2.0)),
             _ => Value::Vec2(Vec2::new(-5.0, 0.0)),
         }
@@ -79,7 +79,8 @@ fn hand_written(
     }
     let target = host.query(ball, Args(&[]));
     let to_goal = host.query(goal, Args(&[]));
-    if host.query(far, Args(&[target.clone(), to_goal])).as_f64() > 11.5 {
+    // Beyond 4 m of their goal the tree kicks long at its front.
+    if host.query(far, Args(&[target.clone(), to_goal])).as_f64() >= 4.0 {
         return Status::Running;
     }
     host.action(
