@@ -325,6 +325,12 @@ impl Player {
             Ordering::Relaxed,
         );
         let mode = self.world.game.play_mode;
+        // Once per beam-allowing mode *each time it comes*: the second goal of a half is
+        // another `Goal_Left` and must beam again (it did not, and the referee lined the
+        // players up outside the touchline, 20 m from their places: NOTES.md session 16).
+        if !mode.allows_beam() {
+            self.beamed_in = None;
+        }
         // The side must be known: the server ignores a beam from a robot whose init has not
         // taken effect (SimSpark), and the right team's beam is mirrored (rcssservermj).
         let beam_now = self.intent.beam.is_some()
@@ -445,6 +451,33 @@ mod tests {
         sexp::top_level(text)
             .map(|i| i.unwrap().as_list().unwrap().head().unwrap().to_string())
             .collect()
+    }
+
+    #[test]
+    fn a_beam_goes_out_in_every_goal_mode_not_only_the_first() {
+        let mut player = t1_player();
+        let base = String::from_utf8(sample("T1_sync_msg0001.txt")).unwrap();
+        let mut beams = Vec::new();
+        for mode in [
+            "BeforeKickOff",
+            "KickOff_Left",
+            "PlayOn",
+            "Goal_Left",
+            "Goal_Left",
+            "KickOff_Right",
+            "PlayOn",
+            "Goal_Left",
+            "Goal_Left",
+        ] {
+            let percept = base.replace("(pm BeforeKickOff)", &format!("(pm {mode})"));
+            let mut out = Vec::new();
+            player.on_percept(percept.as_bytes(), &mut out);
+            beams.push(reply_items(&out).last().map(String::as_str) == Some("beam"));
+        }
+        assert_eq!(
+            beams,
+            [true, false, false, true, false, false, false, true, false]
+        );
     }
 
     #[test]

@@ -9,13 +9,15 @@ const SUCCESS_NAMES: &[&str] = &[
     "GoalScored",
     "BallKeptOut",
     "BallReached",
+    "PassReceived",
     "BallMoved",
     "NoCollision",
     "All",
     "Any",
 ];
 
-/// Decode a condition; `ours` (when `ours_known`) are the robots `BallReached` may name.
+/// Decode a condition; `ours` (when `ours_known`) are the robots `BallReached` and
+/// `PassReceived` may name.
 pub(crate) fn success(
     d: &mut Decoder,
     node: &Node,
@@ -30,14 +32,19 @@ pub(crate) fn success(
     match name {
         "GoalScored" if unit => Some(Success::GoalScored),
         "BallKeptOut" if unit => Some(Success::BallKeptOut),
-        "BallReached" => {
-            let mut f = d.fields(node, "BallReached")?;
-            let unum_node = f.require(d, "unum");
+        "BallReached" | "PassReceived" => {
+            let robot_field = if name == "BallReached" {
+                "unum"
+            } else {
+                "receiver"
+            };
+            let mut f = d.fields(node, name)?;
+            let unum_node = f.require(d, robot_field);
             let unum = unum_node.and_then(|n| d.int_in(n, 1, 11));
             let within = f
                 .require(d, "within_m")
                 .and_then(|n| d.float_in_unit(n, 0.05, 5.0, "m"));
-            f.finish(d, &["unum", "within_m"]);
+            f.finish(d, &[robot_field, "within_m"]);
             if let (Some(u), Some(n)) = (unum, unum_node) {
                 if ours_known && !ours.iter().any(|r| i64::from(r.unum) == u) {
                     let numbers: Vec<String> = ours.iter().map(|r| r.unum.to_string()).collect();
@@ -50,9 +57,14 @@ pub(crate) fn success(
                     return None;
                 }
             }
-            Some(Success::BallReached {
-                unum: unum? as u32,
-                within_m: within?,
+            let (unum, within_m) = (unum? as u32, within?);
+            Some(if name == "BallReached" {
+                Success::BallReached { unum, within_m }
+            } else {
+                Success::PassReceived {
+                    receiver: unum,
+                    within_m,
+                }
             })
         }
         "BallMoved" => {

@@ -7,7 +7,9 @@
 //! At the time limit, or when play stops (a goal, the ball out of play), holding conditions
 //! succeed and pending ones fail.
 
+use crate::pass_judge::PassTrack;
 use crate::spec::Success;
+use libero_world::params::BallParams;
 
 /// What the ground truth shows at one moment.
 #[derive(Debug, Clone, Default)]
@@ -47,7 +49,12 @@ impl Verdict {
 }
 
 enum Node {
-    Leaf { condition: Success, state: Verdict },
+    Leaf {
+        condition: Success,
+        state: Verdict,
+        /// The ball model's view of a pass (`PassReceived` only).
+        track: Option<Box<PassTrack>>,
+    },
     All(Vec<Node>),
     Any(Vec<Node>),
 }
@@ -62,9 +69,11 @@ pub struct Judge {
 }
 
 impl Judge {
-    pub fn new(success: &Success) -> Self {
+    /// A judge of `success`; `ball` is the world model's ball (a pass's stop point is its
+    /// prediction).
+    pub fn new(success: &Success, ball: &BallParams) -> Self {
         Self {
-            root: build(success),
+            root: build(success, ball),
             ball_start: None,
             closest: None,
         }
@@ -82,11 +91,16 @@ impl Judge {
             }
         }
         let start = self.ball_start;
-        visit(&mut self.root, &mut |condition, state| {
+        visit(&mut self.root, &mut |condition, state, track| {
             if state.decided() {
                 return;
             }
-            *state = leaf(condition, state, o, start, pair.as_ref());
+            *state = match (condition, track) {
+                (Success::PassReceived { receiver, within_m }, Some(track)) => {
+                    track.observe(o, *receiver, *within_m, state)
+                }
+                _ => leaf(condition, state, o, start, pair.as_ref()),
+            };
         });
     }
 
@@ -97,7 +111,7 @@ impl Judge {
     /// The run ends at `t` (time limit, or play stopped): holding conditions are met, pending
     /// ones are not.
     pub fn finish(&mut self, t: f64, reason: &str) -> Verdict {
-        visit(&mut self.root, &mut |condition, state| match state {
+        visit(&mut self.root, &mut |condition, state, _| match state {
             Verdict::Holding => *state = Verdict::Succeeded { t },
             Verdict::Pending => {
                 *state = Verdict::Failed {
@@ -111,23 +125,29 @@ impl Judge {
     }
 }
 
-fn build(s: &Success) -> Node {
+fn build(s: &Success, ball: &BallParams) -> Node {
     match s {
-        Success::All(parts) => Node::All(parts.iter().map(build).collect()),
-        Success::Any(parts) => Node::Any(parts.iter().map(build).collect()),
+        Success::All(parts) => Node::All(parts.iter().map(|p| build(p, ball)).collect()),
+        Success::Any(parts) => Node::Any(parts.iter().map(|p| build(p, ball)).collect()),
         leaf => Node::Leaf {
             condition: leaf.clone(),
             state: match leaf {
                 Success::BallKeptOut | Success::NoCollision { .. } => Verdict::Holding,
                 _ => Verdict::Pending,
             },
+            track: matches!(leaf, Success::PassReceived { .. })
+                .then(|| Box::new(PassTrack::new(ball))),
         },
     }
 }
 
-fn visit(node: &mut Node, f: &mut impl FnMut(&Success, &mut Verdict)) {
+fn visit(node: &mut Node, f: &mut impl FnMut(&Success, &mut Verdict, Option<&mut PassTrack>)) {
     match node {
-        Node::Leaf { condition, state } => f(condition, state),
+        Node::Leaf {
+            condition,
+            state,
+            track,
+        } => f(condition, state, track.as_deref_mut()),
         Node::All(parts) | Node::Any(parts) => parts.iter_mut().for_each(|p| visit(p, f)),
     }
 }
@@ -271,13 +291,17 @@ mod tests {
         }
     }
 
+    fn judge(s: &Success) -> Judge {
+        Judge::new(s, &libero_world::WorldParams::builtin().ball)
+    }
+
     #[test]
     fn kept_out_holds_until_the_end_and_fails_on_a_goal() {
-        let mut j = Judge::new(&Success::BallKeptOut);
+        let mut j = judge(&Success::BallKeptOut);
         j.observe(&obs(1.0));
         assert_eq!(j.verdict(), Verdict::Holding);
         assert_eq!(j.finish(8.0, "time ran out"), Verdict::Succeeded { t: 8.0 });
-        let mut j = Judge::new(&Success::BallKeptOut);
+        let mut j = judge(&Success::BallKeptOut);
         let mut o = obs(2.5);
         o.goals_against = 1;
         j.observe(&o);
@@ -295,7 +319,7 @@ mod tests {
                 min_distance_m: 0.45,
             },
         ]);
-        let mut j = Judge::new(&s);
+        let mut j = judge(&s);
         j.observe(&obs(1.0));
         assert_eq!(j.verdict(), Verdict::Pending);
         let mut o = obs(2.0);
@@ -303,7 +327,7 @@ mod tests {
         j.observe(&o);
         assert_eq!(j.verdict(), Verdict::Succeeded { t: 2.0 });
         // A collision fails it.
-        let mut j = Judge::new(&s);
+        let mut j = judge(&s);
         let mut o = obs(1.5);
         o.ours = vec![(9, [4.7, 0.0])];
         j.observe(&o);
@@ -313,13 +337,13 @@ mod tests {
     #[test]
     fn any_succeeds_at_the_first_part_and_pending_parts_fail_at_the_end() {
         let s = Success::Any(vec![Success::GoalScored, Success::BallMoved { min_m: 2.0 }]);
-        let mut j = Judge::new(&s);
+        let mut j = judge(&s);
         j.observe(&obs(0.0));
         let mut o = obs(3.0);
         o.ball = Some([2.5, 0.0, 0.11]);
         j.observe(&o);
         assert_eq!(j.verdict(), Verdict::Succeeded { t: 3.0 });
-        let mut j = Judge::new(&Success::GoalScored);
+        let mut j = judge(&Success::GoalScored);
         j.observe(&obs(0.0));
         assert!(matches!(j.finish(20.0, "time ran out"), Verdict::Failed { t, .. } if t == 20.0));
     }

@@ -29,6 +29,7 @@ mod conditions;
 pub mod decode;
 pub mod judge;
 pub mod load;
+mod pass_judge;
 pub mod run;
 pub mod spec;
 pub mod summary;

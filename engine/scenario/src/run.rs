@@ -317,7 +317,7 @@ impl Arena {
             .into_iter()
             .flat_map(|ours| self.truth(ours).into_iter().map(move |(u, p)| (ours, u, p)))
             .collect();
-        let mut judge = Judge::new(&scenario.success);
+        let mut judge = Judge::new(&scenario.success, &self.ball);
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
         let mut last_in_play = None;

@@ -104,6 +104,10 @@ pub enum Success {
     BallKeptOut,
     /// Our robot `unum`'s torso comes within `within_m` of the ball (ground plane).
     BallReached { unum: u32, within_m: f64 },
+    /// After the ball is kicked, our robot `receiver` first touches it (torso within 0.4 m)
+    /// within `within_m` of where the world model's ball tracker, fed the ground truth,
+    /// predicted it would stop.
+    PassReceived { receiver: u32, within_m: f64 },
     /// The ball ends up at least `min_m` from where it was placed (it was kicked).
     BallMoved { min_m: f64 },
     /// No torso of ours ever closer than `min_distance_m` to another torso (ground plane).
@@ -129,6 +133,9 @@ impl Success {
             Success::BallKeptOut => "BallKeptOut".into(),
             Success::BallReached { unum, within_m } => {
                 format!("BallReached(unum: {unum}, within_m: {within_m})")
+            }
+            Success::PassReceived { receiver, within_m } => {
+                format!("PassReceived(receiver: {receiver}, within_m: {within_m})")
             }
             Success::BallMoved { min_m } => format!("BallMoved(min_m: {min_m})"),
             Success::NoCollision { min_distance_m } => {

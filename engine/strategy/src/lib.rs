@@ -1,6 +1,6 @@
 //! The strategy layer (thesis layers "high-level skills" and "strategy"): the native nodes trees
 //! call, the strategy files in `formations/` and the logic they tune — formations, the
-//! goalkeeper's defense point and saves, shot utility, obstacle avoidance — over the one field
+//! goalkeeper's defense point and saves, shot and pass utility, obstacle avoidance — over the one field
 //! model (`engine/model/fields/*.ron`).
 //!
 //! The tree engine (`libero_behavior`) stays soccer-free: this crate hands it the
@@ -11,12 +11,13 @@ pub mod avoidance;
 pub mod files;
 pub mod goalkeeper;
 pub mod natives;
+pub mod pass;
 pub mod roles;
 pub mod shot;
 
 pub use files::{
-    parse_formation, AvoidanceParams, DefenseLine, Field, Formation, GoalkeeperParams, Role,
-    Sample, ShotParams, Situation, Strategy, StrategyFiles, TeamParams,
+    parse_formation, AvoidanceParams, DefenseLine, Field, Formation, GoalkeeperParams, PassParams,
+    Role, Sample, ShotParams, Situation, Strategy, StrategyFiles, TeamParams,
 };
 pub use natives::{catalogue, vocabulary, AgentHost, DecisionNotes, Natives, PlayerMemory};
 

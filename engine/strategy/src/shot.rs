@@ -74,11 +74,40 @@ fn phi(z: f64) -> f64 {
 }
 
 /// Probability that a normal error of spread `sd` around `mean` falls within [lo, hi].
-fn within(mean: f64, sd: f64, lo: f64, hi: f64) -> f64 {
+pub(crate) fn within(mean: f64, sd: f64, lo: f64, hi: f64) -> f64 {
     if sd < 1e-9 {
         return if (lo..=hi).contains(&mean) { 1.0 } else { 0.0 };
     }
     (phi((hi - mean) / sd) - phi((lo - mean) / sd)).clamp(0.0, 1.0)
+}
+
+/// Where `p` lies from a ball kicked along the unit vector `along`: the distance along the
+/// kick line and the offset across it (+ to the left).
+fn along_and_across(ball: Own, along: Own, p: Own) -> (f64, f64) {
+    let d = p - ball;
+    (
+        d.x * along.x + d.y * along.y,
+        -d.x * along.y + d.y * along.x,
+    )
+}
+
+/// The probability that a ball kicked from `ball` along the unit vector `along`, with a
+/// direction error of spread `sigma` [rad], passes a player at `at` farther than `reach` from
+/// it: the player stands beside the line within its `distance` (a little beyond, as the ball
+/// rolls on), and the lateral spread grows with the distance along it.
+pub(crate) fn passes_by(
+    ball: Own,
+    along: Own,
+    distance: f64,
+    sigma: f64,
+    at: Own,
+    reach: f64,
+) -> f64 {
+    let (s, off) = along_and_across(ball, along, at);
+    if s <= 0.0 || s > distance + 0.5 {
+        return 1.0;
+    }
+    1.0 - within(0.0, s * sigma.tan(), off - reach, off + reach)
 }
 
 impl ShotParams {
@@ -111,14 +140,6 @@ impl ShotParams {
         }
         let sigma = kick.direction_sd_deg.to_radians();
         let along = (target - ball).scaled(1.0 / distance);
-        // Lateral position (perpendicular to the shot line) and its spread where the ball
-        // passes a point at distance s along the line.
-        let lateral = |p: Own| {
-            let d = p - ball;
-            let s = d.x * along.x + d.y * along.y;
-            let off = -d.x * along.y + d.y * along.x;
-            (s, off)
-        };
         let reaches = phi((kick.distance_m - distance) / kick.distance_sd_m.max(1e-3));
         let half_goal = field.goal_half_width();
         // Between the posts: the direction error moves the crossing along the goal line.
@@ -128,23 +149,17 @@ impl ShotParams {
             -half_goal,
             half_goal,
         );
-        let passes = |at: Own, reach: f64| {
-            let (s, off) = lateral(at);
-            if s <= 0.0 || s > distance + 0.5 {
-                return 1.0;
-            }
-            1.0 - within(0.0, s * sigma.tan(), off - reach, off + reach)
-        };
         let keeper = defenders.keeper.map_or(1.0, |k| {
-            let (s, _) = lateral(k);
+            let (s, _) = along_and_across(ball, along, k);
             let travel_s = s.max(0.0) / self.ball_speed_m_s;
             let moving_s = (travel_s - self.keeper_reaction_s).max(0.0);
-            passes(k, self.keeper_reach_m + self.keeper_speed_m_s * moving_s)
+            let reach = self.keeper_reach_m + self.keeper_speed_m_s * moving_s;
+            passes_by(ball, along, distance, sigma, k, reach)
         });
         let blockers: f64 = defenders
             .field_players
             .iter()
-            .map(|p| passes(*p, self.block_radius_m))
+            .map(|p| passes_by(ball, along, distance, sigma, *p, self.block_radius_m))
             .product();
         reaches * inside * keeper * blockers
     }

@@ -188,7 +188,9 @@ fn striker_shoots_near_the_goal_kicks_long_from_far_and_crosses_from_the_goal_li
     assert!(crossing_y.abs() < 1.83, "aims at y = {crossing_y:.2}");
     assert!(distance_m > 7.0, "a long kick: {distance_m}");
 
-    // 30 m out: no shot, and a long kick towards the goal covers the ground faster than a
+    // 30 m out: no shot; on a field with nobody else a long kick straight on, where the pass
+    // utility sends it (formations/pass.ron: progress decides when no race is won), the
+    // kick's measured 11.1 m (t1.ron `kick.measured`), covers the ground faster than a
     // dribble.
     let w = world(
         5,
@@ -205,12 +207,15 @@ fn striker_shoots_near_the_goal_kicks_long_from_far_and_crosses_from_the_goal_li
     else {
         panic!("no kick: {:?}", intent.body)
     };
-    assert!(distance_m > 20.0, "towards the goal: {distance_m}");
-    assert!(direction_deg.abs() < 15.0, "{direction_deg}");
+    assert!((distance_m - 11.1).abs() < 0.2, "a long kick: {distance_m}");
+    assert!(
+        direction_deg.abs() < 5.0,
+        "towards their goal: {direction_deg}"
+    );
 
     // 11 m from the goal centre, almost on the goal line, where the mouth is too narrow for a
-    // shot: a long kick across the front of the goal (2 m out on the centre line), not a
-    // dribble.
+    // shot: a long kick across the front of the goal (the pass fan's direction nearest the
+    // goal whose ball stops 1 m inside the goal line: -97 deg, to (25.7, 0.1)), not a dribble.
     let w = world(
         5,
         Own::new(26.5, 10.0),

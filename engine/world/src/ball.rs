@@ -318,6 +318,16 @@ impl BallEstimate {
         self.tracker.rolls_below_at(speed).is_some()
     }
 
+    /// Where the rolling ball was kicked from, when the track saw it leave a spot where it
+    /// lay (a pass or a shot from rest); `None` for a ball at rest or first seen rolling.
+    pub fn launched_from(&self) -> Option<[f64; 2]> {
+        let rolling = self.velocity != [0.0; 2];
+        self.tracker
+            .launch
+            .filter(|l| l.from_rest && rolling)
+            .map(|l| [l.origin.x, l.origin.y])
+    }
+
     /// Position after `dt` more seconds.
     pub fn predict_position(&self, dt: f64) -> [f64; 2] {
         let (origin, direction, speed, roll) = self.kinematic_state();

@@ -20,6 +20,7 @@ pub struct Strategy {
     pub formations: BTreeMap<String, Formation>,
     pub goalkeeper: Option<GoalkeeperParams>,
     pub shot: Option<ShotParams>,
+    pub pass: Option<PassParams>,
     pub avoidance: Option<AvoidanceParams>,
 }
 

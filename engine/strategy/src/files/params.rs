@@ -1,10 +1,11 @@
-//! Reading the tunable strategy files (goalkeeper, shot utility, obstacle avoidance) and the team
+//! Reading the tunable strategy files (goalkeeper, shot and pass utility, obstacle avoidance) and the team
 //! file choosing formations per situation and trees per role. What the numbers do lives with
-//! the code that uses them (`goalkeeper`, `shot`, `avoidance`).
+//! the code that uses them (`goalkeeper`, `shot`, `pass`, `avoidance`).
 
 use super::field::Field;
 pub use crate::avoidance::{AvoidanceParams, GridParams};
 pub use crate::goalkeeper::{DefenseLine, GoalkeeperParams};
+pub use crate::pass::PassParams;
 pub use crate::shot::ShotParams;
 use libero_behavior::decode::{Decoder, Fields};
 use libero_behavior::syntax::{Node, Span};
@@ -159,6 +160,54 @@ pub fn parse_shot(decoder: &mut Decoder, node: &Node) -> Option<ShotParams> {
         keeper_reaction_s: keeper_reaction_s?,
         block_radius_m: block_radius_m?,
         threshold: threshold?,
+        hysteresis: hysteresis?,
+    })
+}
+
+pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
+    let mut fields = decoder.fields(node, "PassUtility")?;
+    let d = PassParams::default();
+    let directions = match fields.take("directions") {
+        Some(n) => decoder.int_in(n, 1, 181).map(|t| t as usize),
+        None => Some(d.directions),
+    };
+    let mut num = |name: &str, min: f64, max: f64, default: f64| {
+        number(decoder, &mut fields, name, min, max, default)
+    };
+    let fan_deg = num("fan_deg", 0.0, 180.0, d.fan_deg);
+    let field_margin_m = num("field_margin_m", 0.0, 10.0, d.field_margin_m);
+    let block_radius_m = num("block_radius_m", 0.0, 3.0, d.block_radius_m);
+    let walk_speed_m_s = num("walk_speed_m_s", 0.05, 5.0, d.walk_speed_m_s);
+    let race_scale_s = num("race_scale_s", 0.1, 60.0, d.race_scale_s);
+    let opponent_at_most_s = num("opponent_at_most_s", 0.0, 120.0, d.opponent_at_most_s);
+    let progress_weight = num("progress_weight", 0.0, 10.0, d.progress_weight);
+    let race_weight = num("race_weight", 0.0, 10.0, d.race_weight);
+    let hysteresis = num("hysteresis", 0.0, 1.0, d.hysteresis);
+    fields.finish(
+        decoder,
+        &[
+            "directions",
+            "fan_deg",
+            "field_margin_m",
+            "block_radius_m",
+            "walk_speed_m_s",
+            "race_scale_s",
+            "opponent_at_most_s",
+            "progress_weight",
+            "race_weight",
+            "hysteresis",
+        ],
+    );
+    Some(PassParams {
+        directions: directions?,
+        fan_deg: fan_deg?,
+        field_margin_m: field_margin_m?,
+        block_radius_m: block_radius_m?,
+        walk_speed_m_s: walk_speed_m_s?,
+        race_scale_s: race_scale_s?,
+        opponent_at_most_s: opponent_at_most_s?,
+        progress_weight: progress_weight?,
+        race_weight: race_weight?,
         hysteresis: hysteresis?,
     })
 }

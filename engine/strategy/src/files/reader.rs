@@ -1,7 +1,10 @@
 //! Reading the strategy files of a library load (the tree engine hands over every file that is
 //! not `Behaviors(..)`), then checking them against each other and the trees.
 
-use super::{parse_avoidance, parse_formation, parse_goalkeeper, parse_shot, parse_team, Strategy};
+use super::{
+    parse_avoidance, parse_formation, parse_goalkeeper, parse_pass, parse_shot, parse_team,
+    Strategy,
+};
 use libero_behavior::decode::Decoder;
 use libero_behavior::syntax::{Node, Span};
 use libero_behavior::{
@@ -20,6 +23,7 @@ const KINDS: &[&str] = &[
     "Team",
     "Goalkeeper",
     "ShotUtility",
+    "PassUtility",
     "Avoidance",
 ];
 
@@ -83,6 +87,7 @@ impl DataCollector for Collector {
             }
             "Goalkeeper" => s.goalkeeper = parse_goalkeeper(decoder, node),
             "ShotUtility" => s.shot = parse_shot(decoder, node),
+            "PassUtility" => s.pass = parse_pass(decoder, node),
             "Avoidance" => s.avoidance = parse_avoidance(decoder, node),
             _ => {}
         }

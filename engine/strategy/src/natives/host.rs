@@ -23,6 +23,17 @@ pub struct PlayerMemory {
     pub time_to_ball: std::cell::Cell<Option<f64>>,
     /// Whether it was the ball winner last time it asked.
     pub ball_winner: std::cell::Cell<bool>,
+    /// The pass direction chosen last (`best_pass`), held against small gains.
+    pub pass_kept: std::cell::Cell<Option<KeptPass>>,
+}
+
+/// A pass direction held: its direction [rad, own frame], the ball's spot when it was first
+/// chosen and when it was last asked for [s].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeptPass {
+    pub direction: f64,
+    pub ball: Own,
+    pub at: f64,
 }
 
 /// One tick's view of the world, and the intent it fills in.
@@ -43,6 +54,7 @@ pub struct AgentHost<'a> {
 #[derive(Debug, Default)]
 pub(crate) struct TickCache {
     pub(crate) best_shot: std::cell::OnceCell<crate::shot::ShotChoice>,
+    pub(crate) best_pass: std::cell::OnceCell<crate::pass::PassChoice>,
     pub(crate) shot_on_goal: std::cell::OnceCell<Option<crate::goalkeeper::Shot>>,
     /// The formation slot this player holds: one role assignment (and one hysteresis step)
     /// per tick, however many nodes ask.
@@ -72,6 +84,10 @@ impl<'a> AgentHost<'a> {
 
 /// A player meets the ball once it is this close [m] (a step's reach).
 const MEETING_REACH_M: f64 = 0.3;
+/// Who kicked the ball is judged from players seen or heard of this recently [s].
+const KICKER_NEWS_S: f64 = 3.0;
+/// The kicker stood this close to where the ball left [m] (a T1 kicks from ~0.3 m).
+const KICKER_WITHIN_M: f64 = 1.5;
 
 /// A tree value (always own frame) as a typed own-frame point.
 pub(crate) fn own(v: Vec2) -> Own {
@@ -117,9 +133,12 @@ impl AgentHost<'_> {
 
     /// The earliest time [s] and place a player at `from` walking at `speed` meets the ball
     /// (within `MEETING_REACH_M`), or walking to where it comes to rest when it cannot.
+    ///
+    /// A ball one of us kicked (a pass) is met where it stops: a rolling ball met on its way
+    /// bounces off a walking robot, and the pass went where the kicker wanted it.
     pub(crate) fn meeting(&self, from: Own, speed: f64) -> (f64, Own) {
-        if !self.ball_rolls() {
-            let ball = self.ball();
+        if !self.ball_rolls() || self.our_kick() {
+            let ball = self.ball_at_rest();
             return (from.distance(ball) / speed.max(1e-3), ball);
         }
         let ball = &self.world.ball;
@@ -130,6 +149,31 @@ impl AgentHost<'_> {
                 (from.distance(rest) / speed.max(1e-3), rest)
             }
         }
+    }
+
+    /// The rolling ball left its spot next to one of us (this player or a teammate, by where
+    /// everyone is believed to be now): our kick.
+    fn our_kick(&self) -> bool {
+        let Some(from) = self.world.ball.launched_from() else {
+            return false;
+        };
+        let from = Global::from_array(from);
+        let distance = |p: [f64; 2]| Global::from_array(p).distance(from);
+        let now = self.world.time;
+        let nearest_other = self
+            .world
+            .players
+            .known
+            .iter()
+            .filter(|p| p.age(now) < KICKER_NEWS_S)
+            .map(|p| (distance(p.position), p.relation))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let me = distance(self.world.me.position);
+        let (kicker_distance, ours) = match nearest_other {
+            Some((d, relation)) if d < me => (d, relation == libero_world::Relation::Teammate),
+            _ => (me, true),
+        };
+        ours && kicker_distance <= KICKER_WITHIN_M
     }
 
     /// While the robot still walks (or kicks, dribbles), it is asked to stand: the server

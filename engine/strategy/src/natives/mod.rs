@@ -13,6 +13,7 @@ mod game;
 mod host;
 mod keeper;
 mod motion;
+mod passing;
 mod queries;
 mod set_plays;
 mod shooting;
@@ -82,6 +83,7 @@ pub fn catalogue() -> impl Iterator<Item = &'static Native> {
         queries::NODES,
         keeper::NODES,
         shooting::NODES,
+        passing::NODES,
         set_plays::NODES,
         team_play::NODES,
     ]

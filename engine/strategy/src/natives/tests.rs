@@ -462,6 +462,65 @@ mod team_play {
         );
     }
 
+    /// The ball lies at (10, 0) for a second, then is kicked along +x at 5.4 m/s (the server's
+    /// own roll, from the launch table), seen every 20 ms for 0.3 s; `kicker` stands at the
+    /// spot it left.
+    fn kicked_ball(kicker: Relation) -> World {
+        let mut w = world([16.0, 1.0], [10.0, 0.0]);
+        let table = libero_world::WorldParams::builtin().ball.launch_table;
+        let mut t = 19.0;
+        for _ in 0..50 {
+            w.ball
+                .update(t, Some(nalgebra::Vector3::new(10.0, 0.0, 0.11)));
+            t += 0.02;
+        }
+        let launch = t;
+        for _ in 0..15 {
+            t += 0.02;
+            let x = 10.0 + table.distance(5.4, 0.0, t - launch);
+            w.ball.update(t, Some(nalgebra::Vector3::new(x, 0.0, 0.11)));
+        }
+        w.time = t;
+        w.players.heard(kicker, 3, [9.7, 0.0], Some(false), t);
+        w
+    }
+
+    fn meeting(world: &World) -> (f64, libero_world::Own) {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+        let natives = Natives::new();
+        let skills = libero_skills::SkillStatus::default();
+        let mut intent = libero_skills::Intent::default();
+        let mut memory = PlayerMemory::default();
+        let host = AgentHost::new(
+            world,
+            crate::strategy_of(&library),
+            &natives,
+            &skills,
+            &mut memory,
+            &mut intent,
+        );
+        host.meeting(host.me(), 0.5)
+    }
+
+    #[test]
+    fn a_pass_of_ours_is_met_where_it_stops_a_kick_of_theirs_on_its_way() {
+        let ours = kicked_ball(Relation::Teammate);
+        let stop = ours.ball.predicted_stop;
+        assert!(ours.ball.launched_from().is_some(), "a launch from rest");
+        assert!(stop[0] > 17.0, "the roll goes on past us: {stop:?}");
+        // Our teammate kicked it: we walk to where it stops.
+        let (_, at) = meeting(&ours);
+        assert!(
+            (at.x - stop[0]).hypot(at.y - stop[1]) < 1e-9,
+            "{at:?} vs {stop:?}"
+        );
+        // Theirs: we meet it on its way, before it gets there.
+        let theirs = kicked_ball(Relation::Opponent);
+        let (_, at) = meeting(&theirs);
+        assert!(at.x < stop[0] - 0.5, "{at:?} vs {stop:?}");
+    }
+
     #[test]
     fn in_play_a_player_takes_the_formation_slot_the_assignment_gives_it() {
         // The ball at the centre: in `attack`, slot 2 is at (-12, 5) and slot 3 at (-12, -5).
