@@ -36,6 +36,7 @@ fn data() -> RunData {
         library: load_library(&default_data_dirs(), false).unwrap(),
         skills: SkillSource::Builtin,
         watcher: None,
+        log: None,
         interrupt: Default::default(),
     }
 }
@@ -188,6 +189,7 @@ fn shot_file_edits_change_where_the_ball_goes() {
         library: library.clone(),
         skills: SkillSource::Builtin,
         watcher: None,
+        log: None,
         interrupt: Default::default(),
     };
     let kick = |data: &RunData| {

@@ -64,6 +64,9 @@ pub struct RunData {
     /// Whoever watches the series (a field view): told of each player built and of the
     /// server's monitor.
     pub watcher: Option<Box<dyn Watcher>>,
+    /// Each robot writes its evaluation log (with tree traces) to this path with
+    /// `.TEAM.UNUM` appended.
+    pub log: Option<std::path::PathBuf>,
 }
 
 /// What a watcher of a series is given.
@@ -120,6 +123,19 @@ impl Arena {
                 };
                 if let Some(watcher) = &data.watcher {
                     watcher.player(team, &mut player);
+                }
+                if let Some(path) = &data.log {
+                    let mut name = path.as_os_str().to_owned();
+                    name.push(format!(".{team}.{}", r.unum));
+                    let logger =
+                        libero_world::eval_log::EvalLogger::create(std::path::Path::new(&name))
+                            .map_err(|e| {
+                                RunError::Setup(format!(
+                                    "cannot create the evaluation log {}: {e}",
+                                    std::path::Path::new(&name).display()
+                                ))
+                            })?;
+                    player.log_to(logger, true);
                 }
                 robots.push(Robot {
                     unum: r.unum,

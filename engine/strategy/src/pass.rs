@@ -11,6 +11,10 @@ use crate::shot::{passes_by, within, MAX_DEFENDERS};
 use libero_skills::kick::KickSpread;
 use libero_world::Own;
 
+/// A teammate this close to the stop point along the path receives the ball there [m]; one
+/// farther short of it is in the ball's way.
+const TEAMMATE_RECEIVES_WITHIN_M: f64 = 1.5;
+
 /// `formations/pass.ron`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PassParams {
@@ -121,6 +125,16 @@ impl PassParams {
             .iter()
             .map(|p| passes_by(ball, along, travel, sigma, *p, self.block_radius_m))
             .product();
+        // A teammate in the path short of the stop point gets the ball at full speed against
+        // its legs, and it bounces anywhere (scenarios/pass.ron, NOTES.md session 16); one
+        // waiting at the stop point is the receiver.
+        let short_of_stop = (travel - TEAMMATE_RECEIVES_WITHIN_M).max(0.0);
+        let unhindered: f64 = players
+            .teammates
+            .iter()
+            .map(|p| passes_by(ball, along, short_of_stop, sigma, *p, self.block_radius_m))
+            .product();
+        let clear = clear * unhindered;
         let goal = Own::new(field.half_length(), 0.0);
         // -1 (straight back) .. 1 (the kick's whole length towards their goal, or into it).
         let to_goal = ball.distance(goal);

@@ -24,6 +24,10 @@ pub struct ScenarioArgs {
     /// Also write the JSON document to this file.
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
+    /// Each robot writes its evaluation log (JSON lines with tree traces, server truth) to
+    /// FILE.TEAM.UNUM.
+    #[arg(long, value_name = "FILE")]
+    pub log: Option<PathBuf>,
     /// Behavior, strategy and skill files of the Libero robots (watched: edits apply to the
     /// running scenario unless `--no-watch`).
     #[command(flatten)]
@@ -58,6 +62,7 @@ pub fn run(args: ScenarioArgs) -> CliResult {
         skills: args.data.skills(&model)?,
         interrupt: ctrl_c_flag(),
         watcher,
+        log: args.log.clone(),
     };
     eprintln!(
         "scenario {}: {} run(s), seed {}, on a fresh fast-mode rcssservermj…",

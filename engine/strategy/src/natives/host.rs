@@ -126,7 +126,7 @@ impl AgentHost<'_> {
 
     /// The world model has the ball moving (it publishes no speed for the jitter of a ball
     /// at rest).
-    fn ball_rolls(&self) -> bool {
+    pub(crate) fn ball_rolls(&self) -> bool {
         let [vx, vy] = self.world.ball.velocity;
         vx.hypot(vy) > 0.0
     }
@@ -153,7 +153,7 @@ impl AgentHost<'_> {
 
     /// The rolling ball left its spot next to one of us (this player or a teammate, by where
     /// everyone is believed to be now): our kick.
-    fn our_kick(&self) -> bool {
+    pub(crate) fn our_kick(&self) -> bool {
         let Some(from) = self.world.ball.launched_from() else {
             return false;
         };

@@ -19,6 +19,15 @@ pub(super) const NODES: &[Native] = &[
 /// An approach under way is given up for the walk behind the ball once the ball is this many
 /// hand-over distances away (the hand-over itself wobbles with the estimates).
 const REAPPROACH_BEYOND_HANDOVER: f64 = 2.0;
+/// The receiver of a pass waits this far beside the ball's path at its stop point [m]: out of
+/// the path (the ball's lateral spread at 11 m is ~0.5 m), a step from the ball.
+const WAIT_BESIDE_PASS_M: f64 = 1.0;
+/// ... within this of the waiting point [m].
+const WAIT_TOLERANCE_M: f64 = 0.3;
+/// The ball's way to the stop point is walked round as obstacles this far apart [m] ...
+const PASS_PATH_STEP_M: f64 = 0.8;
+/// ... keeping this far from each [m] (half the step and a stride's sway).
+const PASS_PATH_CLEARANCE_M: f64 = 0.5;
 
 fn beam_to_formation_ports() -> NodeSpec {
     NodeSpec::action(
@@ -240,11 +249,23 @@ impl AgentHost<'_> {
             self.look_for_ball();
             return Status::Running;
         }
+        let obstacles = self.obstacles(avoid_ball.then(|| self.ball()));
+        self.walk_round(target, face, &obstacles, max_speed, tolerance)
+    }
+
+    /// `walk_to` round the given obstacles.
+    pub(crate) fn walk_round(
+        &mut self,
+        target: Own,
+        face: Option<Own>,
+        obstacles: &crate::avoidance::Obstacles,
+        max_speed: f64,
+        tolerance: f64,
+    ) -> Status {
         let me = self.me();
         if me.distance(target) <= tolerance {
             return Status::Success;
         }
-        let obstacles = self.obstacles(avoid_ball.then(|| self.ball()));
         let avoidance = self.strategy.avoidance.unwrap_or_default();
         let field = self.strategy.field();
         let waypoint = self.memory.avoidance.next_waypoint(
@@ -252,7 +273,7 @@ impl AgentHost<'_> {
             &field,
             me,
             target,
-            &obstacles,
+            obstacles,
             self.world.time,
         );
         self.walk_towards(
@@ -311,6 +332,45 @@ impl AgentHost<'_> {
         // a point behind it on the kick line; there the kick skill's own approach takes over.
         // A ball that rolled away from an approach under way (kicked on by another robot) is
         // walked after again: the approach walks at its own slow speed and round nothing.
+        // A pass of ours still rolling: wait beside the point where it stops (facing it), out
+        // of its path; standing on the path short of it, the receiver had the ball bounce off
+        // its legs (scenarios/pass.ron, NOTES.md session 16).
+        if self.ball_rolls() && self.our_kick() && self.skills.kick != KickState::Kicking {
+            let rest = self.ball_at_rest();
+            let path = rest - ball;
+            let length = path.norm().max(1e-6);
+            let across = Own::new(-path.y / length, path.x / length);
+            let my_side = (me - rest).x * across.x + (me - rest).y * across.y;
+            let side = if my_side < 0.0 { -1.0 } else { 1.0 };
+            let wait = rest + across.scaled(side * WAIT_BESIDE_PASS_M);
+            // Round the ball's way to its stop point, not across it.
+            let mut obstacles = self.obstacles(Some(ball));
+            let along = Own::new(path.x / length, path.y / length);
+            let mut s = PASS_PATH_STEP_M;
+            while s < length {
+                let at = ball + along.scaled(s);
+                let radius = PASS_PATH_CLEARANCE_M;
+                if obstacles
+                    .try_push(crate::avoidance::Obstacle { at, radius })
+                    .is_err()
+                {
+                    break;
+                }
+                s += PASS_PATH_STEP_M;
+            }
+            let arrived = self.walk_round(
+                wait,
+                Some(rest),
+                &obstacles,
+                f64::INFINITY,
+                WAIT_TOLERANCE_M,
+            );
+            if arrived == Status::Success {
+                self.intent.body = BodyIntent::Stand;
+            }
+            self.look_at_ball();
+            return Status::Running;
+        }
         let far = me.distance(ball) > avoidance.handover_m * REAPPROACH_BEYOND_HANDOVER;
         let approaching = match self.skills.kick {
             KickState::Idle => false,

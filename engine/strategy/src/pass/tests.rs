@@ -206,3 +206,28 @@ fn the_direction_kept_holds_until_another_is_clearly_better() {
     let choice = p.best(ball, &field(), &spread(3.0), &blocked, Some(off), true);
     assert!(choice.direction.abs() < 1e-9, "{choice:?}");
 }
+
+#[test]
+fn a_teammate_in_the_path_short_of_the_stop_point_is_in_the_way() {
+    let p = PassParams::default();
+    let ball = Own::new(0.0, 0.0);
+    // A teammate 5 m straight on, 6 m short of the stop point (11, 0): the ball would hit it
+    // at speed: only the 5.7 % of kicks 1.9 sd off (spread 5 tan 3 deg = 0.26 m against the
+    // 0.5 m block radius) get past. At the stop point it is the receiver.
+    let in_the_way = p.utility(
+        ball,
+        0.0,
+        &field(),
+        &spread(3.0),
+        &players(&[(5.0, 0.0)], &[]),
+    );
+    assert!(in_the_way < 0.06, "{in_the_way}");
+    let receiver = p.utility(
+        ball,
+        0.0,
+        &field(),
+        &spread(3.0),
+        &players(&[(11.0, 0.3)], &[]),
+    );
+    assert!(receiver > 0.8, "{receiver}");
+}
