@@ -175,6 +175,16 @@ fn bad_conditions_and_choices() {
         "BallReached(unum: 4, within_m: 0.5)",
     );
     assert_eq!(one_error(&text), ("unknown-robot".into(), "12:32".into()));
+    let text = GOOD.replace(
+        "All([BallKeptOut, NoCollision(min_distance_m: 0.45)])",
+        "PassReceived(receiver: 4, within_m: 1.0)",
+    );
+    assert_eq!(one_error(&text), ("unknown-robot".into(), "12:37".into()));
+    let text = GOOD.replace(
+        "All([BallKeptOut, NoCollision(min_distance_m: 0.45)])",
+        "PassReceived(receiver: 1, within_m: 9.0)",
+    );
+    assert_eq!(one_error(&text).0, "out-of-range");
     let text = GOOD.replace("play: Tree", "play: Walk");
     assert_eq!(one_error(&text), ("invalid-choice".into(), "6:84".into()));
     let text = GOOD.replace("Some(Towards(", "Some(Toward(");

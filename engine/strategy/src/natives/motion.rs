@@ -19,6 +19,8 @@ pub(super) const NODES: &[Native] = &[
 /// An approach under way is given up for the walk behind the ball once the ball is this many
 /// hand-over distances away (the hand-over itself wobbles with the estimates).
 const REAPPROACH_BEYOND_HANDOVER: f64 = 2.0;
+/// A pass of ours is waited for beside its stop point while it has this far still to roll [m].
+const WAIT_FOR_PASS_BEYOND_M: f64 = 1.5;
 /// The receiver of a pass waits this far beside the ball's path at its stop point [m]: out of
 /// the path (the ball's lateral spread at 11 m is ~0.5 m), a step from the ball.
 const WAIT_BESIDE_PASS_M: f64 = 1.0;
@@ -335,10 +337,19 @@ impl AgentHost<'_> {
         // A pass of ours still rolling: wait beside the point where it stops (facing it), out
         // of its path; standing on the path short of it, the receiver had the ball bounce off
         // its legs (scenarios/pass.ron, NOTES.md session 16).
-        if self.ball_rolls() && self.our_kick() && self.skills.kick != KickState::Kicking {
-            let rest = self.ball_at_rest();
-            let path = rest - ball;
-            let length = path.norm().max(1e-6);
+        let rest = self.ball_at_rest();
+        let path = rest - ball;
+        let length = path.norm().max(1e-6);
+        // Only a pass still on its way: a ball nudged at the robot's feet (the tracker fits a
+        // short roll from the touch) is kicked as it lies; waiting beside it, the robot
+        // stood at the ball for 2 minutes (NOTES.md, session 16).
+        let pass_on_its_way =
+            length > WAIT_FOR_PASS_BEYOND_M && me.distance(ball) > avoidance.handover_m;
+        if pass_on_its_way
+            && self.ball_rolls()
+            && self.our_kick()
+            && self.skills.kick != KickState::Kicking
+        {
             let across = Own::new(-path.y / length, path.x / length);
             let my_side = (me - rest).x * across.x + (me - rest).y * across.y;
             let side = if my_side < 0.0 { -1.0 } else { 1.0 };

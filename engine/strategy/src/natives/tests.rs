@@ -466,7 +466,12 @@ mod team_play {
     /// own roll, from the launch table), seen every 20 ms for 0.3 s; `kicker` stands at the
     /// spot it left.
     fn kicked_ball(kicker: Relation) -> World {
-        let mut w = world([16.0, 1.0], [10.0, 0.0]);
+        kicked_ball_at(kicker, 5.4, [16.0, 1.0])
+    }
+
+    /// The same kick at `speed` [m/s], this player at `me`.
+    fn kicked_ball_at(kicker: Relation, speed: f64, me: [f64; 2]) -> World {
+        let mut w = world(me, [10.0, 0.0]);
         let table = libero_world::WorldParams::builtin().ball.launch_table;
         let mut t = 19.0;
         for _ in 0..50 {
@@ -477,7 +482,7 @@ mod team_play {
         let launch = t;
         for _ in 0..15 {
             t += 0.02;
-            let x = 10.0 + table.distance(5.4, 0.0, t - launch);
+            let x = 10.0 + table.distance(speed, 0.0, t - launch);
             w.ball.update(t, Some(nalgebra::Vector3::new(x, 0.0, 0.11)));
         }
         w.time = t;
@@ -519,6 +524,40 @@ mod team_play {
         let theirs = kicked_ball(Relation::Opponent);
         let (_, at) = meeting(&theirs);
         assert!(at.x < stop[0] - 0.5, "{at:?} vs {stop:?}");
+    }
+
+    fn kick_to(world: &World) -> libero_skills::BodyIntent {
+        let args = [
+            Value::Vec2(libero_behavior::Vec2::new(27.5, 0.0)),
+            Value::Float(0.0),
+            Value::Float(4.0),
+        ];
+        let skills = libero_skills::SkillStatus::default();
+        super::run_action(world, "KickTo", &args, skills).1.body
+    }
+
+    #[test]
+    fn the_receiver_of_our_pass_waits_beside_its_stop_point_a_nudged_ball_is_kicked() {
+        use libero_skills::BodyIntent;
+        // Our pass rolls on past us to (17+, 0): we walk to beside where it stops, facing it,
+        // not onto its path.
+        let w = kicked_ball(Relation::Teammate);
+        let stop = w.ball.predicted_stop;
+        let BodyIntent::WalkTo { target, .. } = kick_to(&w) else {
+            panic!("no walk: {:?}", kick_to(&w))
+        };
+        // The walk's first waypoint, robot frame (facing +x from (16, 1)): ahead, not across
+        // the ball's line (y = 0 in the field, -1 m to our right).
+        assert!(target[1] > -1.0 + 0.3, "{target:?} (stop {stop:?})");
+        // A ball we nudged at our feet (rolling slowly on from where we stand): kicked as it
+        // lies. Waiting beside it, a robot stood at the ball for two minutes.
+        let w = kicked_ball_at(Relation::Teammate, 0.9, [9.8, 0.1]);
+        assert!(w.ball.velocity != [0.0; 2], "the nudged ball rolls");
+        assert!(
+            matches!(kick_to(&w), BodyIntent::Kick { .. }),
+            "{:?}",
+            kick_to(&w)
+        );
     }
 
     #[test]
