@@ -1,9 +1,10 @@
 //! Locomotion on the real rcssservermj (fast `--sync --no-realtime` mode), shortened for CI.
 //!
 //! The full measurements are `libero bench walk|getup|kick`. The bars sit below what the current walk
-//! parameters reach (forward 0.56 m/s, sideways 0.21–0.22 m/s, turning 52°/s in 5 consecutive
-//! `libero bench walk` runs, 3 of them `--short`), so a regression fails but run-to-run scatter
-//! does not.
+//! parameters reach (`libero bench walk`, seeds 1–3: forward 0.66 m/s over 20 m, sideways
+//! 0.24 m/s, turning 51°/s; this test's 10 s walk: forward 0.62 m/s with the acceleration),
+//! so a regression fails but run-to-run scatter does not. The gait before it (0.55 m/s limit)
+//! fails the forward bar.
 
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
@@ -46,7 +47,7 @@ fn walks_forward_for_ten_seconds_without_falling() {
         f.speed, f.seconds, f.fell_at
     );
     assert_eq!(f.fell_at, None);
-    assert!(f.speed >= 0.5, "forward {:.3} m/s", f.speed);
+    assert!(f.speed >= 0.56, "forward {:.3} m/s", f.speed);
 }
 
 #[test]
@@ -55,7 +56,7 @@ fn walks_sideways_and_turns_on_the_spot_without_falling() {
     let s = bench::sideways(&mut trial, &params, 10.0).unwrap();
     eprintln!("sideways {:.3} m/s, fell at {:?}", s.speed, s.fell_at);
     assert_eq!(s.fell_at, None);
-    assert!(s.speed >= 0.19, "sideways {:.3} m/s", s.speed);
+    assert!(s.speed >= 0.21, "sideways {:.3} m/s", s.speed);
     let t = bench::turning(&mut trial, &params, 10.0).unwrap();
     eprintln!("turn {:.1} deg/s, fell at {:?}", t.speed, t.fell_at);
     assert_eq!(t.fell_at, None);

@@ -157,14 +157,38 @@ fn the_keeper_keeps_most_shots_out() {
     }
 }
 
-/// Editing `shot.ron` while the scenario series runs changes where the striker sends the ball:
-/// 8 m out in front of a keeper standing 0.7 m left of the goal's centre, the shipped file's
-/// best point lies towards the far (right) post and the ball crosses the line there; with one
-/// target only (the centre: `targets: 1`) the ball goes at the middle of the goal (a shot at the
-/// centre, or, when that chance is too low next to the keeper, the tree's long kick at the
-/// goal's front, also the middle).
+/// The global direction (deg) the striker aimed its shot at, from its evaluation log: the
+/// median over the cycles whose decision was a kick at `best_shot` (the trace shows the
+/// `ShotIsGood` condition holding). `None` when it never decided to shoot.
+fn shot_aim_deg(log: &Path) -> Option<f64> {
+    let text = std::fs::read_to_string(log).ok()?;
+    let mut aims: Vec<f64> = text
+        .lines()
+        .filter_map(|line| serde_json::from_str::<serde_json::Value>(line).ok())
+        .filter(|record| {
+            record["trace"]
+                .as_str()
+                .is_some_and(|t| t.contains("ShotIsGood=Success"))
+        })
+        .filter_map(|record| record["decision"]["intent_direction_deg"].as_f64())
+        .collect();
+    if aims.is_empty() {
+        return None;
+    }
+    aims.sort_by(f64::total_cmp);
+    Some(aims[aims.len() / 2])
+}
+
+/// Editing `shot.ron` while the scenario series runs changes where the striker shoots: 8 m
+/// out in front of a keeper standing 0.7 m left of the goal's centre, the shipped file's best
+/// point lies towards the far (right) post (an aim 6-9 deg right of straight on); with one
+/// target only (the centre: `targets: 1`) and a threshold low enough to take that chance
+/// beside the keeper, the striker shoots straight at the middle. The aim is the decision the
+/// file drives (read from the evaluation log); the kick's own spread (3-5 deg, up to 0.7 m
+/// at 8 m) makes where the ball crosses the line a noisy witness of it, so the ball is only
+/// asked to have been kicked at the goal.
 #[test]
-fn shot_file_edits_change_where_the_ball_goes() {
+fn shot_file_edits_change_where_the_striker_shoots() {
     let _turn = live_turn();
     let text = r#"Scenario(
     name: "shot_edit",
@@ -185,28 +209,43 @@ fn shot_file_edits_change_where_the_ball_goes() {
     let shot_file = dirs[1].join("shot.ron");
     let original = std::fs::read_to_string(&shot_file).unwrap();
     let library = load_library(&dirs, true).unwrap();
-    let data = RunData {
-        library: library.clone(),
-        skills: SkillSource::Builtin,
-        watcher: None,
-        log: None,
-        interrupt: Default::default(),
-    };
-    let kick = |data: &RunData| {
+    let logs = tempfile::tempdir().unwrap();
+    let kick = |name: &str| {
+        let log = logs.path().join(name);
+        let data = RunData {
+            library: library.clone(),
+            skills: SkillSource::Builtin,
+            watcher: None,
+            log: Some(log.clone()),
+            interrupt: Default::default(),
+        };
         let (summary, error) =
-            run_series(&scenario, Path::new("shot_edit.ron"), data, 1, 1, |_| {});
+            run_series(&scenario, Path::new("shot_edit.ron"), &data, 1, 1, |_| {});
         assert!(error.is_none(), "{error:?}");
-        summary.runs[0].clone()
+        let striker_log = std::fs::read_dir(logs.path())
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| {
+                let file = p.file_name().unwrap().to_string_lossy().into_owned();
+                file.starts_with(&format!("{name}.")) && file.ends_with(".7")
+            })
+            .expect("the striker's evaluation log");
+        (summary.runs[0].clone(), shot_aim_deg(&striker_log))
     };
-    let shot = kick(&data);
+    let (shot, aim) = kick("shipped");
     let line = libero_scenario::Summary::run_line(&shot);
-    let far_post = shot.goal_line_y.filter(|y| *y < -0.5);
     assert!(
-        far_post.is_some() && shot.ball_travel_m > 6.0,
-        "the striker did not shoot at the far post: {line}"
+        aim.is_some_and(|a| a < -4.0) && shot.ball_travel_m > 6.0,
+        "the striker did not shoot towards the far post (aim {aim:?} deg): {line}"
     );
-    let edited = original.replace("targets: 9,", "targets: 1,");
-    assert_ne!(edited, original, "the edit must change the file");
+    let edited = original
+        .replace("targets: 9,", "targets: 1,")
+        .replace("threshold: 0.3,", "threshold: 0.05,");
+    assert_eq!(
+        edited.matches("targets: 1,").count() + edited.matches("threshold: 0.05,").count(),
+        2,
+        "the edit must change the file's targets and threshold"
+    );
     let generation = || match &library {
         libero_agent::LibrarySource::Live(live) => live.generation(),
         libero_agent::LibrarySource::Fixed(_) => 0,
@@ -218,15 +257,12 @@ fn shot_file_edits_change_where_the_ball_goes() {
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
     assert!(generation() > old, "the edit was not live within a second");
-    let centre = kick(&data);
+    let (centre, aim) = kick("edited");
     let line = libero_scenario::Summary::run_line(&centre);
-    // At the middle: crossing well left of the far-post shot, or stopped by the keeper there.
     assert!(
-        centre.ball_travel_m > 3.0
-            && centre
-                .goal_line_y
-                .is_none_or(|y| y > far_post.unwrap_or(-1.2) + 0.5),
-        "with the centre as the only target the ball still went at the far post: {line}"
+        aim.is_some_and(|a| a.abs() < 2.0) && centre.ball_travel_m > 3.0,
+        "with the centre as the only target the striker did not shoot at the middle (aim \
+         {aim:?} deg): {line}"
     );
 }
 

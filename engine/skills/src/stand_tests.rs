@@ -12,8 +12,10 @@ fn standing_after_a_walk(in_walk_posture: bool, roll_rate: f64) -> (ActiveSkill,
     let model = RobotModel::builtin("T1").unwrap();
     let mut params = SkillParams::builtin(&model).unwrap();
     params.stand_in_walk_posture = in_walk_posture;
-    let mut skills = Skills::new(&model, params).unwrap();
     let mut world = World::new(&model, "t", 1);
+    // The torso holds the walk's lean, so the walk has no tilt to catch when it stops.
+    world.me.pitch_deg = params.walk.torso_lean_deg;
+    let mut skills = Skills::new(&model, params).unwrap();
     let mut out = JointTargets::default();
     let walk = Intent {
         body: BodyIntent::Walk {
@@ -100,8 +102,10 @@ fn a_robot_the_server_put_down_stands_in_the_stand_pose_until_it_walks_again() {
     let params = SkillParams::builtin(&model).unwrap();
     let knee = model.joint_id("left_knee").unwrap();
     let stand_knee = params.stand["left_knee"];
-    let mut skills = Skills::new(&model, params).unwrap();
     let mut world = World::new(&model, "t", 1);
+    // The torso holds the walk's lean, so the walk has no tilt to catch when it stops.
+    world.me.pitch_deg = params.walk.torso_lean_deg;
+    let mut skills = Skills::new(&model, params).unwrap();
     let mut out = JointTargets::default();
     let intent = |body| Intent {
         body,

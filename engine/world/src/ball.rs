@@ -75,6 +75,9 @@ struct Tracker {
     window_mean: Vector2<f64>,
     /// The track holds a teammate's sighting only: the next own sighting starts afresh.
     heard_track: bool,
+    /// Where the ball last left a spot it lay at, kept while it rolls on: a teammate's report
+    /// restarts the track (and forgets its launch), but not where the roll came from.
+    roll_origin: Option<Vector2<f64>>,
 }
 
 impl BallEstimate {
@@ -107,6 +110,7 @@ impl BallEstimate {
                 motion_supported: false,
                 window_mean: Vector2::zeros(),
                 heard_track: false,
+                roll_origin: None,
             },
         }
     }
@@ -232,6 +236,15 @@ impl BallEstimate {
                 t.launch = None;
                 carried.clear();
             }
+            // A jump with no new launch from rest (a touch on the way, a placement) is not
+            // the roll that left the old spot; a jump after a teammate's report is the same
+            // roll seen again.
+            match t.launch {
+                Some(l) if l.from_rest => t.roll_origin = Some(l.origin),
+                Some(_) => t.roll_origin = None,
+                None if teleported => t.roll_origin = None,
+                None => {}
+            }
             t.reset_track();
             t.observations.extend(carried.into_iter().rev());
         }
@@ -323,9 +336,9 @@ impl BallEstimate {
     pub fn launched_from(&self) -> Option<[f64; 2]> {
         let rolling = self.velocity != [0.0; 2];
         self.tracker
-            .launch
-            .filter(|l| l.from_rest && rolling)
-            .map(|l| [l.origin.x, l.origin.y])
+            .roll_origin
+            .filter(|_| rolling)
+            .map(|o| [o.x, o.y])
     }
 
     /// Position after `dt` more seconds.
@@ -449,6 +462,7 @@ impl Tracker {
         self.window_mean =
             points.iter().map(|(_, p)| p).sum::<Vector2<f64>>() / points.len().max(1) as f64;
         if settled {
+            self.roll_origin = None;
             if self.launched.is_some() {
                 self.launch = None;
                 self.launched = None;

@@ -201,3 +201,35 @@ fn a_ball_at_rest_is_met_after_the_walk_to_it() {
     );
     assert!(ball.interception([0.0, 0.0], 0.0, 0.3).is_none());
 }
+
+#[test]
+fn where_a_roll_started_survives_a_teammates_report_on_the_way() {
+    let (mut ball, obs, _, _) = launch(3.5, 0.2);
+    let start = Vector2::new(-3.0, 2.0);
+    let origin = |ball: &BallEstimate| ball.launched_from().map(Vector2::from);
+    let mut heard = false;
+    let mut checked_after_report = false;
+    for (t, p) in &obs {
+        // Out of sight from 1.6 s; a teammate reports it at 1.96 s and we see it again at 2.2 s.
+        if (1.6..2.2).contains(t) {
+            if !heard && *t >= 1.96 {
+                assert!(ball.hear(*t, *t, [p.x, p.y], 0.3), "the report is newer");
+                heard = true;
+            }
+            continue;
+        }
+        ball.update(*t, Some(*p));
+        if (1.3..1.6).contains(t) {
+            let o = origin(&ball).expect("launched from rest");
+            assert!((o - start).norm() < 0.1, "{o:?}");
+        }
+        if (2.6..3.0).contains(t) && ball.velocity != [0.0; 2] {
+            let o = origin(&ball).expect("the same roll after the report");
+            assert!((o - start).norm() < 0.1, "{o:?}");
+            checked_after_report = true;
+        }
+    }
+    assert!(heard && checked_after_report);
+    assert_eq!(ball.velocity, [0.0; 2], "at rest at the end");
+    assert_eq!(origin(&ball), None, "a ball at rest left no spot");
+}

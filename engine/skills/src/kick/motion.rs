@@ -21,7 +21,10 @@ pub struct MotionPlan {
     foot_yaw_deg: f64,
     /// Neutral sole places [m].
     neutral: [[f64; 2]; 2],
+    /// The soles' height below the torso while kicking, and in the walk's stance the kick
+    /// starts from and ends in [m].
     sole_z: f64,
+    walk_sole_z: f64,
     walk_lean_deg: f64,
     ball_radius_m: f64,
     toe_m: f64,
@@ -78,7 +81,8 @@ impl MotionPlan {
             swing_end: [0.0; 3],
             foot_yaw_deg: 0.0,
             neutral,
-            sole_z: -w.torso_height_m,
+            sole_z: -m.kick_torso_height_m.unwrap_or(w.torso_height_m),
+            walk_sole_z: -w.torso_height_m,
             walk_lean_deg: w.torso_lean_deg,
             ball_radius_m,
             toe_m,
@@ -127,7 +131,9 @@ impl MotionPlan {
     pub fn at(&self, t: f64) -> MotionFrame {
         let m = &self.m;
         let k = self.foot.index();
-        let home = [self.neutral[k][0], self.neutral[k][1], self.sole_z];
+        // The stance blends from the walk's to the kick's during the shift and back during
+        // the recovery, with the lean.
+        let stance_z = |blend: f64| self.walk_sole_z + (self.sole_z - self.walk_sole_z) * blend;
         // Phase boundaries.
         let t1 = m.shift_s;
         let t2 = t1 + m.windup_s;
@@ -135,9 +141,11 @@ impl MotionPlan {
         let t4 = t3 + m.retract_s;
         let t5 = t4 + m.recover_s;
         let progress = |from: f64, len: f64| if len > 0.0 { (t - from) / len } else { 1.0 };
+        let home = [self.neutral[k][0], self.neutral[k][1], self.sole_z];
         let (phase, kick_sole, yaw, shift, lean) = if t < t1 {
             let s = smooth(progress(0.0, m.shift_s));
-            (Phase::Shift, home, 0.0, s, s)
+            let at_home = [home[0], home[1], stance_z(s)];
+            (Phase::Shift, at_home, 0.0, s, s)
         } else if t < t2 {
             let s = smooth(progress(t1, m.windup_s));
             (
@@ -163,16 +171,18 @@ impl MotionPlan {
             (Phase::Retract, p, yaw, 1.0, 1.0)
         } else if t < t5 {
             let back = 1.0 - smooth(progress(t4, m.recover_s));
-            (Phase::Recover, home, 0.0, back, back)
+            let at_home = [home[0], home[1], stance_z(back)];
+            (Phase::Recover, at_home, 0.0, back, back)
         } else {
-            (Phase::Finished, home, 0.0, 0.0, 0.0)
+            let at_home = [home[0], home[1], self.walk_sole_z];
+            (Phase::Finished, at_home, 0.0, 0.0, 0.0)
         };
         // The torso moves over the support foot: world-fixed points move towards the kicking side.
         let dy = self.foot.sign() * m.weight_shift_m * shift;
         let mut soles = [0, 1].map(|i| SolePlacement {
             x: self.neutral[i][0],
             y: self.neutral[i][1] + dy,
-            z: self.sole_z,
+            z: stance_z(lean),
             yaw_deg: 0.0,
         });
         soles[k] = SolePlacement {
@@ -218,5 +228,34 @@ mod tests {
             right.foot_yaw_deg
         );
         assert!(left.swing_end[1] < straight.swing_end[1] - 0.01);
+    }
+
+    #[test]
+    fn the_kick_stands_at_its_own_height_and_ends_at_the_walks() {
+        let t1 = libero_model::RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let mut m = p.kick.long.clone();
+        let mut w = p.walk.clone();
+        w.torso_height_m = 0.60;
+        m.kick_torso_height_m = Some(0.62);
+        let plan = MotionPlan::new(Foot::Left, [0.36, 0.10], 0.0, 0.11, 0.12, &m, &w);
+        let support = |t: f64| plan.at(t).soles[Foot::Right.index()].z;
+        assert!((support(0.0) + 0.60).abs() < 1e-9, "{}", support(0.0));
+        let windup = m.shift_s + 0.5 * m.windup_s;
+        assert_eq!(plan.at(windup).phase, Phase::Windup);
+        assert!((support(windup) + 0.62).abs() < 1e-9, "{}", support(windup));
+        // The wind-up lifts the kicking foot from the kick's stance, not the walk's.
+        let kicking = plan.at(m.shift_s + m.windup_s - 1e-6).soles[Foot::Left.index()].z;
+        assert!(
+            (kicking - (-0.62 + m.windup_lift_m)).abs() < 1e-3,
+            "{kicking}"
+        );
+        let end = plan.at(plan.duration_s() + 0.1);
+        assert_eq!(end.phase, Phase::Finished);
+        assert!(end.soles.iter().all(|s| (s.z + 0.60).abs() < 1e-9));
+        // Unset, the kick stands at the walk's height throughout.
+        m.kick_torso_height_m = None;
+        let plain = MotionPlan::new(Foot::Left, [0.36, 0.10], 0.0, 0.11, 0.12, &m, &w);
+        assert!((plain.at(windup).soles[1].z + 0.60).abs() < 1e-9);
     }
 }

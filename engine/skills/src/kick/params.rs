@@ -148,6 +148,12 @@ pub struct KickMotion {
     pub roll_out_m: f64,
     /// Torso lean while kicking [deg], + forwards.
     pub kick_lean_deg: f64,
+    /// Torso height over the soles while kicking [m], reached during the weight shift and
+    /// left during the recovery as the lean is; unset: the walk's. The swing's torques were
+    /// tuned at one height: a faster gait that walks lower (more knee bend) must not move the
+    /// kick's stance with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kick_torso_height_m: Option<f64>,
     /// How much of the torso's measured tilt the kicking foot allows for while it comes back
     /// down (0: placed as if the torso were upright, 1: placed on the level ground below a
     /// tilted torso). A body left leaning over the support foot after the swing is pushed
@@ -278,6 +284,9 @@ impl KickMotion {
         in_range(&p("contact_yaw_deg"), self.contact_yaw_deg, -30.0, 30.0)?;
         in_range(&p("roll_out_m"), self.roll_out_m, 0.0, 40.0)?;
         in_range(&p("kick_lean_deg"), self.kick_lean_deg, -20.0, 30.0)?;
+        if let Some(h) = self.kick_torso_height_m {
+            in_range(&p("kick_torso_height_m"), h, 0.1, 1.0)?;
+        }
         in_range(&p("landing_tilt_gain"), self.landing_tilt_gain, 0.0, 1.5)?;
         in_range(&p("windup_lift_m"), self.windup_lift_m, 0.0, 0.3)?;
         in_range(&p("windup_back_m"), self.windup_back_m, 0.0, 0.5)?;

@@ -561,6 +561,24 @@ mod team_play {
     }
 
     #[test]
+    fn a_receiver_beside_the_path_short_of_the_stop_point_keeps_off_the_path() {
+        use libero_skills::BodyIntent;
+        // Our pass rolls along y = 0 from (10, 0) to 17+; we stand 0.9 m to its right, short
+        // of where it stops, facing +x. The way to the waiting point runs beside the path.
+        for me in [[13.0, -0.9], [14.0, -0.8], [12.5, 0.9]] {
+            let w = kicked_ball_at(Relation::Teammate, 5.4, me);
+            let BodyIntent::WalkTo { target, .. } = kick_to(&w) else {
+                panic!("no walk: {:?}", kick_to(&w))
+            };
+            let across = me[1] + target[1];
+            assert!(
+                across.abs() > 0.6 && across.signum() == me[1].signum(),
+                "from {me:?} the walk goes to {target:?} (robot frame): {across:.2} m off the path"
+            );
+        }
+    }
+
+    #[test]
     fn in_play_a_player_takes_the_formation_slot_the_assignment_gives_it() {
         // The ball at the centre: in `attack`, slot 2 is at (-12, 5) and slot 3 at (-12, -5).
         let mut w = world([-12.0, -5.0], [0.0, 0.0]);
