@@ -51,8 +51,12 @@ pub struct AvoidanceParams {
     /// Robots not seen for this long are not obstacles [s].
     pub memory_s: f64,
     /// `KickTo` walks with avoidance until this close to the ball, then the kick skill's own
-    /// approach takes over [m].
+    /// approach takes over [m] ...
     pub handover_m: f64,
+    /// ... or already this close when no robot or post stands in the way to the ball [m]:
+    /// the kick skill walks round the ball (nothing else) without the hand-over's change of
+    /// pace.
+    pub clear_handover_m: f64,
     /// The point `KickTo` walks to lies this far behind the ball on the kick line [m].
     pub behind_ball_m: f64,
     /// A rolling ball is walked to where it is met at this speed on its predicted path (or
@@ -71,6 +75,7 @@ impl Default for AvoidanceParams {
             detour_margin_m: 0.15,
             memory_s: 3.0,
             handover_m: 1.2,
+            clear_handover_m: 1.2,
             behind_ball_m: 0.7,
             meeting_speed_m_s: 0.5,
             grid: GridParams {
@@ -105,6 +110,12 @@ fn effective(obstacles: &[Obstacle], me: Own) -> Obstacles {
             radius: o.radius.min(me.distance(o.at) - 0.02).max(0.0),
         })
         .collect()
+}
+
+/// Whether the straight way from `me` to `target` passes every obstacle outside its
+/// clearance (one the robot already stands inside counts only with what is left of it).
+pub fn way_clear(me: Own, target: Own, obstacles: &[Obstacle]) -> bool {
+    clear(me, target, &effective(obstacles, me))
 }
 
 fn clear(a: Own, b: Own, obstacles: &[Obstacle]) -> bool {

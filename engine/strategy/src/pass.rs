@@ -42,6 +42,12 @@ pub struct PassParams {
     /// A new direction must be this much better than the one chosen before to replace it
     /// (estimates jitter; a target that swings makes the approach circle the ball).
     pub hysteresis: f64,
+    /// While a teammate within this of the ball is about to play it [m], the formation slot
+    /// nearest to where its pass would stop moves to the receiving spot beside that point (0:
+    /// never; the receiver then walks there only once the ball rolls).
+    pub anticipate_within_m: f64,
+    /// The receiving spot lies this far beside the pass's stop point, off its path [m].
+    pub receive_beside_m: f64,
 }
 
 impl Default for PassParams {
@@ -57,6 +63,8 @@ impl Default for PassParams {
             progress_weight: 1.0,
             race_weight: 1.0,
             hysteresis: 0.1,
+            anticipate_within_m: 0.0,
+            receive_beside_m: 1.0,
         }
     }
 }
@@ -216,6 +224,20 @@ impl PassParams {
             }
             _ => best,
         }
+    }
+}
+
+impl PassChoice {
+    /// Where a teammate waits for this pass: `beside` metres off its path at the stop point,
+    /// on the side of `from`.
+    pub fn receiving_spot(&self, beside: f64, from: Own) -> Own {
+        let across = Own::new(-self.direction.sin(), self.direction.cos());
+        let side = if (from - self.target).x * across.x + (from - self.target).y * across.y < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        self.target + across.scaled(side * beside)
     }
 }
 

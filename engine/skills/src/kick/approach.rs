@@ -6,7 +6,7 @@
 //! around the ball on the clearance circle, towards the side behind it; close to the place the
 //! robot aligns with small omnidirectional steps.
 
-use super::params::KickApproach;
+use super::params::{ApproachPath, KickApproach};
 use crate::walk::gait::Foot;
 use crate::walk::{walk_to, Velocity, WalkParams};
 use libero_world::geometry::wrap_deg;
@@ -87,7 +87,7 @@ pub fn stopping_travel(executed: Velocity, a: &KickApproach, w: &WalkParams) -> 
         braking + v * w.step_period_s * a.stop_lead_steps
     };
     [
-        axis(executed.forward_m_s, w.accel_forward_m_s2),
+        axis(executed.forward_m_s, w.decel_forward_m_s2()),
         axis(executed.sideways_m_s, w.accel_sideways_m_s2),
         axis(executed.turn_deg_s, w.accel_turn_deg_s2),
     ]
@@ -151,7 +151,12 @@ pub fn step(
     let robot = Vector2::zeros();
     let heading_error = wrap_deg(heading);
     let distance = p.norm();
-    if distance <= a.align_within_m && segment_distance(robot, p, b) >= a.clearance_m * 0.8 {
+    // The waypoint approach aligns past the ball a little nearer than it walks round it; the
+    // path approach (which comes in faster) keeps the whole clearance.
+    let near_clearance = if a.path.is_some() { 1.0 } else { 0.8 };
+    if distance <= a.align_within_m
+        && segment_distance(robot, p, b) >= a.clearance_m * near_clearance
+    {
         if within_tolerances(p, heading, travel, tolerance_scale, a) {
             return ApproachStep::Ready;
         }
@@ -159,7 +164,13 @@ pub fn step(
         let coarse =
             p.norm() > a.look_within_m * widen || heading_error.abs() > a.look_within_deg * widen;
         let v = p * a.align_gain_per_s;
-        let scale = (v.norm() / a.align_speed_m_s).max(1.0);
+        // On the path approach the last part is walked at the braking profile's speed, not
+        // at the slow alignment speed.
+        let cap = match &a.path {
+            Some(path) => braking_speed(distance, path, a).max(a.align_min_speed_m_s),
+            None => a.align_speed_m_s,
+        };
+        let scale = (v.norm() / cap).max(1.0);
         // Small position errors are walked off at the slowest speed that still moves.
         let scale = if v.norm() > 1e-9 {
             scale.min(v.norm() / a.align_min_speed_m_s)
@@ -179,6 +190,9 @@ pub fn step(
             ApproachStep::Align(v)
         };
     }
+    if let Some(path) = &a.path {
+        return ApproachStep::Walk(path_velocity(b, p, heading_error, a, path, w));
+    }
     let v = walk_round_ball(
         b,
         p,
@@ -197,6 +211,140 @@ pub fn step(
             .clamp(-a.approach_turn_deg_s, a.approach_turn_deg_s),
         ..v
     })
+}
+
+/// The fastest speed [m/s] from which braking at the path's rate stops within `left_m`,
+/// within the approach's cap.
+///
+/// The walk keeps the speed of the step under way, and a new command takes a step to show:
+/// the robot goes on for `lag_s` before it brakes, so the speed v must satisfy
+/// v·lag + v²/(2·brake) ≤ left.
+fn braking_speed(left_m: f64, path: &ApproachPath, a: &KickApproach) -> f64 {
+    let (brake, lag) = (path.brake_m_s2, path.lag_s);
+    (brake * (-lag + (lag * lag + 2.0 * left_m.max(0.0) / brake).sqrt())).min(a.approach_speed_m_s)
+}
+
+/// The shortest way from the robot to the kicking place round the ball (see
+/// [`way_to_place`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Way {
+    /// Which way to walk now (unit, robot frame).
+    pub direction: Vector2<f64>,
+    /// Straight on to the circle round the ball [m] (0: on it, or no need to go round) ...
+    pub to_circle_m: f64,
+    /// ... along the circle [m] ...
+    pub round_m: f64,
+    /// ... and straight on to the place [m].
+    pub straight_m: f64,
+}
+
+impl Way {
+    pub fn length_m(&self) -> f64 {
+        self.to_circle_m + self.round_m + self.straight_m
+    }
+}
+
+/// The shortest way from the robot (the origin) to `place` that keeps `clearance` from the
+/// ball at `ball`. Straight when the segment passes the ball far enough; otherwise along the
+/// tangent to the circle of `radius` round the ball, on round it the shorter way, then
+/// straight to the place.
+pub fn way_to_place(ball: Vector2<f64>, place: Vector2<f64>, clearance: f64, radius: f64) -> Way {
+    let robot = Vector2::zeros();
+    if segment_distance(robot, place, ball) >= clearance {
+        return Way {
+            direction: place.try_normalize(1e-9).unwrap_or_else(Vector2::x),
+            to_circle_m: 0.0,
+            round_m: 0.0,
+            straight_m: place.norm(),
+        };
+    }
+    let from = robot - ball;
+    let to = place - ball;
+    let distance = from.norm();
+    let radial = from.try_normalize(1e-9).unwrap_or_else(|| -to.normalize());
+    // Round the ball the shorter way: +1 anticlockwise.
+    let arc = from.perp(&to).atan2(from.dot(&to));
+    let sense = if arc >= 0.0 { 1.0 } else { -1.0 };
+    let straight_m = (to.norm() - radius).abs();
+    if distance > radius {
+        // Along the tangent: it touches the circle `touch` round from the robot's bearing.
+        let touch = (radius / distance).acos();
+        let tangent_point = ball + Rotation2::new(sense * touch) * radial * radius;
+        let to_tangent = tangent_point - robot;
+        Way {
+            direction: to_tangent.try_normalize(1e-9).unwrap_or(radial),
+            to_circle_m: to_tangent.norm(),
+            round_m: (arc.abs() - touch).max(0.0) * radius,
+            straight_m,
+        }
+    } else {
+        // On or inside the circle: along it, drifting out to its radius.
+        let tangent = Rotation2::new(sense * std::f64::consts::FRAC_PI_2) * radial;
+        let out = radial * ((radius - distance) / radius.max(1e-9));
+        Way {
+            direction: (tangent + out).try_normalize(1e-9).unwrap_or(tangent),
+            to_circle_m: 0.0,
+            round_m: arc.abs() * radius,
+            straight_m,
+        }
+    }
+}
+
+/// The path approach's walk command towards `place` (robot frame), ending with heading
+/// `heading_deg` (relative), round the ball at `ball`.
+fn path_velocity(
+    ball: Vector2<f64>,
+    place: Vector2<f64>,
+    heading_deg: f64,
+    a: &KickApproach,
+    path: &ApproachPath,
+    w: &WalkParams,
+) -> Velocity {
+    // Outside the cone behind the place, the way leads to the line-up point behind it on the
+    // kick line first, so that the last part is walked straight along the kick direction.
+    let h = heading_deg.to_radians();
+    let d = Vector2::new(h.cos(), h.sin());
+    let from_place = -place;
+    let along = from_place.dot(&d);
+    let across = from_place.perp(&d).abs();
+    let in_cone = along <= 0.0 && across <= path.cone_slope * -along + path.cone_margin_m;
+    let (way, after) = if in_cone {
+        (
+            way_to_place(ball, place, a.clearance_m, a.circle_radius_m),
+            0.0,
+        )
+    } else {
+        let line_up = place - d * path.line_up_m;
+        (
+            way_to_place(ball, line_up, a.clearance_m, a.circle_radius_m),
+            path.line_up_m,
+        )
+    };
+    let left = way.length_m() + after;
+    let travel_deg = way.direction.y.atan2(way.direction.x).to_degrees();
+    let span = (path.face_travel_beyond_m - path.face_kick_within_m).max(1e-9);
+    let blend = ((left - path.face_kick_within_m) / span).clamp(0.0, 1.0);
+    let facing = wrap_deg(heading_deg + wrap_deg(travel_deg - heading_deg) * blend);
+    // Stop at the place; on the circle no faster than the turn keeps up with its curve, and
+    // on the way to it slow enough to get onto it.
+    let mut speed = braking_speed(left, path, a);
+    if way.round_m > 0.0 {
+        let on_circle = a.approach_turn_deg_s.to_radians() * a.circle_radius_m;
+        speed = speed.min((on_circle * on_circle + 2.0 * path.brake_m_s2 * way.to_circle_m).sqrt());
+    }
+    // Turned away from the way to go, turn first: walking backwards or sideways is slow, and
+    // the walk's limits share one budget between turning and walking.
+    let facing_travel = wrap_deg(travel_deg).to_radians().cos().max(0.0);
+    let speed = speed * facing_travel.max(1.0 - blend);
+    let turn = (path.turn_gain_per_s * facing).clamp(-a.approach_turn_deg_s, a.approach_turn_deg_s);
+    crate::walk::clamp_command(
+        Velocity {
+            forward_m_s: way.direction.x * speed,
+            sideways_m_s: way.direction.y * speed,
+            turn_deg_s: turn,
+        },
+        w,
+    )
 }
 
 /// How wide a berth the robot gives the ball on its way to a place beside or behind it.
@@ -258,110 +406,4 @@ fn facing_on_the_circle(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    const STILL: Moving = Moving {
-        looking: false,
-        travel: [0.0; 3],
-        tolerance_scale: 1.0,
-    };
-    const LOOKING: Moving = Moving {
-        looking: true,
-        ..STILL
-    };
-
-    fn params() -> (KickApproach, WalkParams) {
-        let t1 = libero_model::RobotModel::builtin("T1").unwrap();
-        let p = crate::SkillParams::builtin(&t1).unwrap();
-        (p.kick.approach, p.walk)
-    }
-
-    #[test]
-    fn the_kicking_place_puts_the_ball_ahead_of_the_kicking_foot() {
-        let (a, _) = params();
-        let (place, heading) = kicking_place([1.0, 0.0], 90.0, Foot::Right, &a);
-        assert_eq!(heading, 90.0);
-        // Kicking towards +y with the right foot: the robot faces +y with the ball to its
-        // right (+x), so it stands below the ball and to its −x.
-        assert!(
-            (place[0] - (1.0 - a.ball_beside_m)).abs() < 1e-9,
-            "{place:?}"
-        );
-        assert!((place[1] + a.ball_ahead_m).abs() < 1e-9, "{place:?}");
-    }
-
-    #[test]
-    fn from_in_front_of_the_ball_the_path_goes_around_it() {
-        let (a, w) = params();
-        // Ball 0.6 m ahead, to be kicked back towards the robot: the place is behind the ball.
-        let ApproachStep::Walk(v) = step([0.6, 0.0], 180.0, Foot::Left, STILL, &a, &w) else {
-            panic!("not ready from the wrong side");
-        };
-        // Not straight at the ball: sideways first.
-        assert!(
-            v.sideways_m_s.abs() > 0.01 || v.turn_deg_s.abs() > 1.0,
-            "{v:?}"
-        );
-        let ApproachStep::Walk(v) = step([1.0, 0.0], 0.0, Foot::Left, STILL, &a, &w) else {
-            panic!("not ready 1 m away");
-        };
-        assert!(v.forward_m_s > 0.0, "{v:?}");
-    }
-
-    #[test]
-    fn round_the_ball_it_faces_the_way_it_walks_and_turns_to_the_kick_heading_near_the_place() {
-        // Travel bearing 45°, kick heading -90°: far round the arc it faces the travel, near
-        // the place the kick heading, half way between them in the blend.
-        let waypoint = Vector2::new(0.3, 0.3);
-        assert!((facing_on_the_circle(waypoint, -90.0, 120.0, 60.0) - 45.0).abs() < 1e-9);
-        assert!((facing_on_the_circle(waypoint, -90.0, -20.0, 60.0) + 90.0).abs() < 1e-9);
-        assert!((facing_on_the_circle(waypoint, -90.0, 45.0, 60.0) + 22.5).abs() < 1e-9);
-        // 360 (off): always the kick heading.
-        assert!((facing_on_the_circle(waypoint, -90.0, 179.0, 360.0) + 90.0).abs() < 1e-9);
-
-        // The ball beside the robot, the place on its far side: walking round it, the robot
-        // turns towards the way it walks (the next point of the circle, ahead and to the
-        // left, behind) with the shipped T1 numbers; without, towards the kick heading (-60°).
-        let (mut a, w) = params();
-        let ball = [0.0, 0.45];
-        let turn = |a: &KickApproach| {
-            let ApproachStep::Walk(v) = step(ball, -60.0, Foot::Left, STILL, a, &w) else {
-                panic!("ready beside the ball");
-            };
-            v.turn_deg_s
-        };
-        assert!(a.face_travel_beyond_deg < 180.0);
-        let facing = turn(&a);
-        a.face_travel_beyond_deg = 360.0;
-        let heading = turn(&a);
-        assert!(facing > 5.0 && heading < -5.0, "{facing} vs {heading}");
-    }
-
-    #[test]
-    fn at_the_place_it_is_ready() {
-        let (a, w) = params();
-        let ball = [a.ball_ahead_m, a.ball_beside_m];
-        assert_eq!(
-            step(ball, 0.0, Foot::Left, STILL, &a, &w),
-            ApproachStep::Ready
-        );
-        // Slightly off: stop, look and correct; further off: align on the move.
-        let slightly = 0.5 * (a.ready_deg + a.look_within_deg);
-        assert!(matches!(
-            step(ball, slightly, Foot::Left, STILL, &a, &w),
-            ApproachStep::Align(v) if v.turn_deg_s > 0.0
-        ));
-        let beyond = a.look_within_deg + 2.0;
-        assert!(matches!(
-            step(ball, beyond, Foot::Left, STILL, &a, &w),
-            ApproachStep::Walk(v) if v.turn_deg_s > 0.0
-        ));
-        // Once stopped to look, the same error is corrected from standing.
-        assert!(matches!(
-            step(ball, beyond, Foot::Left, LOOKING, &a, &w),
-            ApproachStep::Align(v) if v.turn_deg_s > 0.0
-        ));
-        assert_eq!(natural_foot(ball, 0.0), Foot::Left);
-    }
-}
+mod tests;

@@ -19,7 +19,7 @@ use libero_model::RobotModel;
 use libero_world::World;
 use motion::{MotionPlan, Phase};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-pub use params::{KickApproach, KickMotion, KickParams, KickSpread};
+pub use params::{ApproachPath, KickApproach, KickMotion, KickParams, KickSpread};
 
 /// Where a kick request stands; callers (behavior nodes) succeed on `Done`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

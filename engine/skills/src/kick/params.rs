@@ -46,6 +46,32 @@ impl Default for KickSpread {
     }
 }
 
+/// The path approach: along the shortest way to the kicking place that keeps `clearance_m`
+/// from the ball (straight, or along the tangent to the circle round it and on round it), at
+/// the speed from which braking at `brake_m_s2` still stops at the place, facing the way of
+/// travel far out and the kick heading near the place.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+pub struct ApproachPath {
+    /// The deceleration the speed profile plans with [m/s²]: at `s` metres of path left the
+    /// robot walks at most √(2·brake·s) (and at most `approach_speed_m_s`).
+    pub brake_m_s2: f64,
+    /// How long the robot goes on at its speed before braking takes hold [s] (the step under
+    /// way is finished at its length; the next is shorter).
+    pub lag_s: f64,
+    /// With more than this much path left the robot faces the way it walks [m] ...
+    pub face_travel_beyond_m: f64,
+    /// ... with less than this the kick heading [m]; blended in between.
+    pub face_kick_within_m: f64,
+    /// Turn per degree of heading error [1/s] (capped at `approach_turn_deg_s`).
+    pub turn_gain_per_s: f64,
+    /// Outside the cone behind the kicking place (half-width `cone_margin_m` plus
+    /// `cone_slope` per metre behind it) the robot first walks to the line-up point,
+    /// `line_up_m` behind the place on the kick line [m].
+    pub line_up_m: f64,
+    pub cone_slope: f64,
+    pub cone_margin_m: f64,
+}
+
 /// Getting to the kicking place behind the ball.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct KickApproach {
@@ -67,6 +93,10 @@ pub struct KickApproach {
     pub face_travel_beyond_deg: f64,
     /// Speed cap while walking to the kicking place [m/s].
     pub approach_speed_m_s: f64,
+    /// The path approach (absent: the robot walks to waypoints round the ball and aligns at
+    /// `align_speed_m_s` near the place).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<ApproachPath>,
     /// Fastest turn while walking there [deg/s]: the walk's fastest turn on top of walking
     /// fast, with the command changing every cycle, can tip the robot over.
     pub approach_turn_deg_s: f64,
@@ -217,6 +247,26 @@ impl KickParams {
         )?;
         in_range(&p("approach_speed_m_s"), a.approach_speed_m_s, 0.01, 2.0)?;
         in_range(&p("approach_turn_deg_s"), a.approach_turn_deg_s, 1.0, 360.0)?;
+        if let Some(path) = &a.path {
+            in_range(&p("path.brake_m_s2"), path.brake_m_s2, 0.01, 10.0)?;
+            in_range(&p("path.lag_s"), path.lag_s, 0.0, 2.0)?;
+            in_range(
+                &p("path.face_kick_within_m"),
+                path.face_kick_within_m,
+                0.0,
+                10.0,
+            )?;
+            in_range(
+                &p("path.face_travel_beyond_m"),
+                path.face_travel_beyond_m,
+                path.face_kick_within_m,
+                20.0,
+            )?;
+            in_range(&p("path.turn_gain_per_s"), path.turn_gain_per_s, 0.01, 20.0)?;
+            in_range(&p("path.line_up_m"), path.line_up_m, 0.0, 5.0)?;
+            in_range(&p("path.cone_slope"), path.cone_slope, 0.0, 10.0)?;
+            in_range(&p("path.cone_margin_m"), path.cone_margin_m, 0.0, 1.0)?;
+        }
         in_range(&p("align_within_m"), a.align_within_m, 0.01, 2.0)?;
         in_range(&p("align_gain_per_s"), a.align_gain_per_s, 0.01, 10.0)?;
         in_range(

@@ -195,14 +195,15 @@ impl Walk {
             Phase::Settling(_) => {
                 self.phase = Phase::Walking;
                 self.executed = Velocity::default();
-                // Weight shift first: a step without lift, led by the foot on the side the
-                // command goes to.
+                // Weight shift first: a step without a stride (and a low lift), led by the foot
+                // on the side the command goes to.
                 let first = if wanted.sideways_m_s < 0.0 || wanted.turn_deg_s < 0.0 {
                     Foot::Right
                 } else {
                     Foot::Left
                 };
-                self.gait.begin_step(first, Step::default(), 0.0);
+                self.gait
+                    .begin_step(first, Step::default(), p.start_lift_scale);
             }
             Phase::Walking => {
                 self.executed = rate_limit(self.executed, wanted, p, dt);
@@ -334,10 +335,24 @@ fn capture_x(tilt_deg: f64, stopping: bool, b: &BalanceParams) -> f64 {
     }
 }
 
+/// The forward axis's rate limit for a change from `from` to `to` [m/s²]: slowing down (a
+/// smaller speed, or one the other way) at the deceleration, speeding up at the acceleration.
+fn forward_rate(from: Velocity, to: Velocity, p: &WalkParams) -> f64 {
+    if from.forward_m_s * (to.forward_m_s - from.forward_m_s) < 0.0 {
+        p.decel_forward_m_s2()
+    } else {
+        p.accel_forward_m_s2
+    }
+}
+
 fn rate_limit(from: Velocity, to: Velocity, p: &WalkParams, dt: f64) -> Velocity {
     let towards = |a: f64, b: f64, max_step: f64| a + (b - a).clamp(-max_step, max_step);
     Velocity {
-        forward_m_s: towards(from.forward_m_s, to.forward_m_s, p.accel_forward_m_s2 * dt),
+        forward_m_s: towards(
+            from.forward_m_s,
+            to.forward_m_s,
+            forward_rate(from, to, p) * dt,
+        ),
         sideways_m_s: towards(
             from.sideways_m_s,
             to.sideways_m_s,
@@ -429,6 +444,72 @@ mod tests {
         );
         p.balance.rest_correction_scale = 0.0;
         assert_eq!(at_rest(&p, 10.0), at_rest(&p, 0.0));
+    }
+
+    /// The highest the swing foot rises during the first step of a walk from rest [m].
+    fn first_step_lift(p: &WalkParams) -> f64 {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut world = libero_world::World::new(&model, "t", 1);
+        world.me.pitch_deg = p.torso_lean_deg;
+        let mut walk = Walk::new(&model).unwrap();
+        let mut pose = vec![0.0; model.joints.len()];
+        let ahead = Velocity {
+            forward_m_s: 0.3,
+            ..Default::default()
+        };
+        let mut first = None;
+        let mut lift: f64 = 0.0;
+        for i in 0..200 {
+            world.time = i as f64 * NOMINAL_CYCLE_S;
+            walk.update(&world, Some(ahead), p, &mut pose);
+            if !walk.is_stepping() {
+                continue;
+            }
+            let swing = *first.get_or_insert(walk.gait.swing);
+            if walk.gait.swing != swing {
+                return lift;
+            }
+            let sole = walk.gait.placements(p)[swing.index()];
+            lift = lift.max(sole.z + p.torso_height_m);
+        }
+        panic!("the first step never ended");
+    }
+
+    #[test]
+    fn the_first_step_lifts_its_foot_by_the_start_share_of_a_step() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let mut p = crate::SkillParams::builtin(&model).unwrap().walk;
+        assert!(p.start_lift_scale > 0.0);
+        let lift = first_step_lift(&p);
+        assert!(
+            (lift - p.start_lift_scale * p.step_height_m).abs() < 0.002,
+            "{lift}"
+        );
+        // Absent from a file: a weight shift without lift.
+        p.start_lift_scale = 0.0;
+        assert_eq!(first_step_lift(&p), 0.0);
+    }
+
+    #[test]
+    fn the_walk_speeds_up_at_its_acceleration_and_slows_down_at_its_deceleration() {
+        let model = RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&model).unwrap().walk;
+        let (up, down) = (p.accel_forward_m_s2, p.decel_forward_m_s2());
+        assert!(down < up, "{down} {up}");
+        let at = |v: f64| Velocity {
+            forward_m_s: v,
+            ..Default::default()
+        };
+        let dt = 0.02;
+        let faster = rate_limit(at(0.3), at(0.6), &p, dt);
+        assert!((faster.forward_m_s - (0.3 + up * dt)).abs() < 1e-12);
+        let slower = rate_limit(at(0.6), at(0.0), &p, dt);
+        assert!((slower.forward_m_s - (0.6 - down * dt)).abs() < 1e-12);
+        // Backwards the same: coming back towards zero is slowing down.
+        let back = rate_limit(at(-0.2), at(0.3), &p, dt);
+        assert!((back.forward_m_s - (-0.2 + down * dt)).abs() < 1e-12);
+        let from_rest = rate_limit(at(0.0), at(-0.2), &p, dt);
+        assert!((from_rest.forward_m_s + up * dt).abs() < 1e-12);
     }
 
     #[test]

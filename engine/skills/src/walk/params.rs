@@ -26,12 +26,21 @@ pub struct WalkParams {
     pub sway_phase_lead: f64,
     /// Time to blend from the current posture into the walk posture before the first step [s].
     pub settle_s: f64,
+    /// Share of `step_height_m` the walk's first step (the weight shift onto the support leg)
+    /// lifts its foot by [0..1] (absent from a file: 0, a shift without lift). A T1 shifting
+    /// without lift rolled 10° onto the first swing leg's side and yawed up to 15° before
+    /// stepping on; lifting 0.4 of a step halves the roll (NOTES.md, session 20).
+    #[serde(default)]
+    pub start_lift_scale: f64,
     pub max_forward_m_s: f64,
     pub max_backward_m_s: f64,
     pub max_sideways_m_s: f64,
     pub max_turn_deg_s: f64,
     /// How fast the executed command may follow the requested one [m/s², m/s², deg/s²].
     pub accel_forward_m_s2: f64,
+    /// Slowing down forwards or backwards, this instead [m/s²] (absent: `accel_forward_m_s2`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decel_forward_m_s2: Option<f64>,
     pub accel_sideways_m_s2: f64,
     pub accel_turn_deg_s2: f64,
     /// Arm swing in opposition to the legs, per metre of foot offset [deg/m].
@@ -112,6 +121,11 @@ pub(crate) fn in_range(path: &str, value: f64, lo: f64, hi: f64) -> Check {
 }
 
 impl WalkParams {
+    /// How fast a forward or backward speed may come down [m/s²].
+    pub fn decel_forward_m_s2(&self) -> f64 {
+        self.decel_forward_m_s2.unwrap_or(self.accel_forward_m_s2)
+    }
+
     /// Every field within physically sensible bounds for a humanoid from the NAO's size (0.385 m
     /// standing torso height) to the T1's (0.67 m).
     pub fn validate(&self) -> Check {
@@ -151,6 +165,12 @@ impl WalkParams {
         )?;
         in_range(&format!("{w}.settle_s"), self.settle_s, 0.0, 3.0)?;
         in_range(
+            &format!("{w}.start_lift_scale"),
+            self.start_lift_scale,
+            0.0,
+            1.0,
+        )?;
+        in_range(
             &format!("{w}.max_forward_m_s"),
             self.max_forward_m_s,
             0.0,
@@ -180,6 +200,9 @@ impl WalkParams {
             0.01,
             10.0,
         )?;
+        if let Some(decel) = self.decel_forward_m_s2 {
+            in_range(&format!("{w}.decel_forward_m_s2"), decel, 0.01, 10.0)?;
+        }
         in_range(
             &format!("{w}.accel_sideways_m_s2"),
             self.accel_sideways_m_s2,

@@ -183,6 +183,8 @@ pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
     let progress_weight = num("progress_weight", 0.0, 10.0, d.progress_weight);
     let race_weight = num("race_weight", 0.0, 10.0, d.race_weight);
     let hysteresis = num("hysteresis", 0.0, 1.0, d.hysteresis);
+    let anticipate_within_m = num("anticipate_within_m", 0.0, 20.0, d.anticipate_within_m);
+    let receive_beside_m = num("receive_beside_m", 0.0, 5.0, d.receive_beside_m);
     fields.finish(
         decoder,
         &[
@@ -196,6 +198,8 @@ pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
             "progress_weight",
             "race_weight",
             "hysteresis",
+            "anticipate_within_m",
+            "receive_beside_m",
         ],
     );
     Some(PassParams {
@@ -209,6 +213,8 @@ pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
         progress_weight: progress_weight?,
         race_weight: race_weight?,
         hysteresis: hysteresis?,
+        anticipate_within_m: anticipate_within_m?,
+        receive_beside_m: receive_beside_m?,
     })
 }
 
@@ -217,6 +223,7 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
     let d = AvoidanceParams::default();
     let grid_node = fields.take("grid");
     let behind_span = fields.peek_span("behind_ball_m");
+    let clear_handover_span = fields.peek_span("clear_handover_m");
     let mut num = |name: &str, min: f64, max: f64, default: f64| {
         number(decoder, &mut fields, name, min, max, default)
     };
@@ -227,6 +234,8 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
     let detour_margin_m = num("detour_margin_m", 0.0, 2.0, d.detour_margin_m);
     let memory_s = num("memory_s", 0.0, 30.0, d.memory_s);
     let handover_m = num("handover_m", 0.3, 5.0, d.handover_m);
+    // Absent: no earlier hand-over (the plain `handover_m`).
+    let clear_handover_m = num("clear_handover_m", 0.3, 10.0, f64::NAN);
     let behind_ball_m = num("behind_ball_m", 0.2, 3.0, d.behind_ball_m);
     let meeting_speed_m_s = num("meeting_speed_m_s", 0.05, 3.0, d.meeting_speed_m_s);
     fields.finish(
@@ -239,6 +248,7 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
             "detour_margin_m",
             "memory_s",
             "handover_m",
+            "clear_handover_m",
             "behind_ball_m",
             "meeting_speed_m_s",
             "grid",
@@ -256,6 +266,13 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
         detour_margin_m: detour_margin_m?,
         memory_s: memory_s?,
         handover_m: handover_m?,
+        clear_handover_m: clear_handover_m.map(|m| {
+            if m.is_nan() {
+                handover_m.unwrap_or(d.handover_m)
+            } else {
+                m
+            }
+        })?,
         behind_ball_m: behind_ball_m?,
         meeting_speed_m_s: meeting_speed_m_s?,
         grid: grid?,
@@ -265,6 +282,15 @@ pub fn parse_avoidance(decoder: &mut Decoder, node: &Node) -> Option<AvoidancePa
         let message = format!(
             "`behind_ball_m` ({} m) must be below `handover_m` ({} m): the point behind the ball must lie inside the kick skill's hand-over distance",
             params.behind_ball_m, params.handover_m
+        );
+        decoder.error("out-of-range", span, message);
+        return None;
+    }
+    if params.clear_handover_m < params.handover_m {
+        let span = clear_handover_span.unwrap_or(node.span);
+        let message = format!(
+            "`clear_handover_m` ({} m) must not be below `handover_m` ({} m): with the way clear the kick skill takes over at least as early",
+            params.clear_handover_m, params.handover_m
         );
         decoder.error("out-of-range", span, message);
         return None;

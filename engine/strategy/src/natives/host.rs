@@ -25,6 +25,9 @@ pub struct PlayerMemory {
     pub ball_winner: std::cell::Cell<bool>,
     /// The pass direction chosen last (`best_pass`), held against small gains.
     pub pass_kept: std::cell::Cell<Option<KeptPass>>,
+    /// The teammate's pass this player last expected (`formations/pass.ron`
+    /// `anticipate_within_m`), held against small gains like its own.
+    pub pass_expected: std::cell::Cell<Option<KeptPass>>,
 }
 
 /// A pass direction held: its direction [rad, own frame], the ball's spot when it was first
@@ -58,7 +61,15 @@ pub(crate) struct TickCache {
     pub(crate) shot_on_goal: std::cell::OnceCell<Option<crate::goalkeeper::Shot>>,
     /// The formation slot this player holds: one role assignment (and one hysteresis step)
     /// per tick, however many nodes ask.
-    pub(crate) slot: std::cell::OnceCell<u8>,
+    pub(crate) slot: std::cell::OnceCell<HeldSlot>,
+}
+
+/// The formation slot a player holds this tick, and where it is when the slot has moved off
+/// the formation (to receive an expected pass).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct HeldSlot {
+    pub unum: u8,
+    pub moved_to: Option<Own>,
 }
 
 impl<'a> AgentHost<'a> {
@@ -259,7 +270,8 @@ impl AgentHost<'_> {
     /// assignment here would step the roles' hysteresis), the formation target, the keeper's
     /// defense point and the shot a node chose.
     pub fn notes(&self) -> DecisionNotes {
-        let slot = self.tick.slot.get().copied().unwrap_or_else(|| self.unum());
+        let held = self.tick.slot.get().copied();
+        let slot = held.map_or_else(|| self.unum(), |h| h.unum);
         let situation = self.situation();
         let mut role = arrayvec::ArrayString::new();
         if let Some(r) = self
@@ -275,10 +287,14 @@ impl AgentHost<'_> {
                 .unwrap_or(0);
             role.push_str(&r.name[..end]);
         }
-        let formation_target = self
-            .strategy
-            .position(situation, slot, value(self.ball_at_rest()))
-            .map(|p| self.global_of(own(p)));
+        let formation_target = held
+            .and_then(|h| h.moved_to)
+            .or_else(|| {
+                self.strategy
+                    .position(situation, slot, value(self.ball_at_rest()))
+                    .map(own)
+            })
+            .map(|p| self.global_of(p));
         let defense_point = (self.unum() == 1).then(|| self.global_of(self.defense_point()));
         let shot = self
             .tick

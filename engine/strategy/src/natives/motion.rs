@@ -382,13 +382,22 @@ impl AgentHost<'_> {
             self.look_at_ball();
             return Status::Running;
         }
-        let far = me.distance(ball) > avoidance.handover_m * REAPPROACH_BEYOND_HANDOVER;
+        // With nothing but the ball in the way (and the ball at rest), the kick skill's own
+        // approach takes over early: it walks round the ball at full pace, while the walk to a
+        // point behind the ball slowed down there and handed over at a standstill.
+        let hand_over_m =
+            if !self.ball_rolls() && crate::avoidance::way_clear(me, ball, &self.obstacles(None)) {
+                avoidance.clear_handover_m
+            } else {
+                avoidance.handover_m
+            };
+        let far = me.distance(ball) > hand_over_m * REAPPROACH_BEYOND_HANDOVER;
         let approaching = match self.skills.kick {
             KickState::Idle => false,
             KickState::Approaching => !far,
             _ => true,
         };
-        if !approaching && me.distance(ball) > avoidance.handover_m {
+        if !approaching && me.distance(ball) > hand_over_m {
             // A rolling ball: to where it is met, kicked on from there towards the target.
             let (_, meet) = self.meeting(me, avoidance.meeting_speed_m_s);
             self.walk_behind_ball(meet, meet.bearing_to(target));

@@ -47,7 +47,7 @@ const KEPT_WHILE_BALL_WITHIN_M: f64 = 1.0;
 const PLAYER_NEWS_S: f64 = 3.0;
 
 impl AgentHost<'_> {
-    fn pass_field(&self) -> PassField {
+    pub(crate) fn pass_field(&self) -> PassField {
         let world = self.world;
         let upright = |relation| {
             world

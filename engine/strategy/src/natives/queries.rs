@@ -110,12 +110,14 @@ fn formation_position_ports() -> NodeSpec {
 }
 
 fn formation_position(host: &AgentHost, ports: &Ports) -> Value {
-    let position = host
-        .strategy
-        .position(host.situation(), host.slot(), value(host.ball_at_rest()))
-        .unwrap_or_else(|| value(host.me()));
+    let position = host.held_slot().moved_to.unwrap_or_else(|| {
+        own(host
+            .strategy
+            .position(host.situation(), host.slot(), value(host.ball_at_rest()))
+            .unwrap_or_else(|| value(host.me())))
+    });
     let clear = ports.float("clear_of_ball");
-    Value::Vec2(value(clear_of(own(position), host.ball(), clear)))
+    Value::Vec2(value(clear_of(position, host.ball(), clear)))
 }
 
 /// `p` moved radially out of the circle of `radius` round `ball` (from the ball's side away

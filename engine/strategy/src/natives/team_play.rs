@@ -1,6 +1,7 @@
 //! Team play: who holds which formation role (the optimal assignment of `roles`) and who goes
 //! for the ball (the predicted time to reach it, this player's against its teammates' claims).
 
+use super::host::HeldSlot;
 use super::{AgentHost, Native, Ports};
 use crate::roles::{Candidate, Slot, MAX_PLAYERS};
 use crate::Situation;
@@ -15,6 +16,8 @@ pub(super) const NODES: &[Native] = &[Native::query(am_ball_winner_ports, am_bal
 const TEAMMATE_NEWS_S: f64 = 4.0;
 /// Saved summed squared distance [m²] an assignment must offer to replace the one held.
 const ROLE_HYSTERESIS_M2: f64 = 4.0;
+/// A ball that will come to rest this close to where it is counts as lying still [m].
+const STILL_WITHIN_M: f64 = 1.0;
 /// A teammate's claim (or sighting) counts this long [s].
 const CLAIM_FRESH_S: f64 = 1.0;
 
@@ -138,14 +141,78 @@ impl AgentHost<'_> {
             .and_then(|(u, _)| u8::try_from(u).ok())
     }
 
+    /// While teammate `winner` is at the ball (at rest) about to play it, the slot nearest
+    /// to where its pass would stop moves to the receiving spot beside that point: the
+    /// receiver is there when the ball comes, not 8-12 m away (`formations/pass.ron`
+    /// `anticipate_within_m`; the pass as this player works it out, with itself in the race).
+    /// The slot moved (its default uniform number) and where to.
+    fn anticipate_pass(&self, winner: u8, slots: &mut [Slot]) -> Option<(u8, Own)> {
+        let params = self.strategy.pass.unwrap_or_default();
+        let world = self.world;
+        let ball = self.ball();
+        // Still, or nudged: the tracker fits slow rolls to a ball at the kicker's feet.
+        let at_rest = self.ball_at_rest().distance(ball) <= STILL_WITHIN_M;
+        if params.anticipate_within_m <= 0.0 || !at_rest {
+            return None;
+        }
+        let near_ball = world
+            .players
+            .get(Relation::Teammate, u32::from(winner))
+            .filter(|p| p.age(world.time) <= TEAMMATE_NEWS_S)
+            .is_some_and(|p| self.own_of(p.position).distance(ball) <= params.anticipate_within_m);
+        if !near_ball {
+            return None;
+        }
+        let mut players = self.pass_field();
+        let _ = players.teammates.try_push(self.me());
+        let kept = self
+            .memory
+            .pass_expected
+            .get()
+            .filter(|k| k.ball.distance(ball) <= 1.0);
+        let pass = params.best(
+            ball,
+            &self.strategy.field(),
+            &self.skills.kick_spread,
+            &players,
+            kept.map(|k| k.direction),
+            false,
+        );
+        self.memory.pass_expected.set(Some(super::host::KeptPass {
+            direction: pass.direction,
+            ball: kept.map_or(ball, |k| k.ball),
+            at: world.time,
+        }));
+        if pass.utility <= 0.0 {
+            return None;
+        }
+        let slot = slots.iter_mut().min_by(|a, b| {
+            a.at.distance(pass.target)
+                .total_cmp(&b.at.distance(pass.target))
+        })?;
+        slot.at = pass.receiving_spot(params.receive_beside_m, slot.at);
+        Some((slot.default_unum, slot.at))
+    }
+
     /// The formation slot (by its default uniform number) this player holds: in play, the
     /// ball winner the slot nearest the ball and the others the optimal assignment of the rest;
     /// in kick-offs and set plays, and for the goalkeeper, its own.
     pub(crate) fn slot(&self) -> u8 {
-        *self.tick.slot.get_or_init(|| self.assigned_slot())
+        self.held_slot().unum
     }
 
-    fn assigned_slot(&self) -> u8 {
+    /// The slot held, with where it has moved to when it waits for an expected pass.
+    pub(crate) fn held_slot(&self) -> HeldSlot {
+        *self.tick.slot.get_or_init(|| {
+            let mut moved_to = None;
+            let unum = self.assigned_slot(&mut moved_to);
+            HeldSlot { unum, moved_to }
+        })
+    }
+
+    /// The slot this player holds; `moved_to` gets where it lies when it has moved off the
+    /// formation.
+    fn assigned_slot(&self, moved_to: &mut Option<Own>) -> u8 {
         let unum = self.unum();
         let situation = self.situation();
         let in_play = matches!(
@@ -191,6 +258,7 @@ impl AgentHost<'_> {
         if winner == Some(unum) {
             return winner_slot.unwrap_or(unum);
         }
+        let moved = winner.and_then(|w| self.anticipate_pass(w, &mut slots));
         let world = self.world;
         let candidates: ArrayVec<Candidate, MAX_PLAYERS> = formation
             .roles
@@ -218,6 +286,8 @@ impl AgentHost<'_> {
             .collect();
         let mut roles = self.memory.roles.borrow_mut();
         roles.update(&candidates, &slots, ROLE_HYSTERESIS_M2);
-        roles.slot_of(unum).unwrap_or(unum)
+        let held = roles.slot_of(unum).unwrap_or(unum);
+        *moved_to = moved.filter(|(slot, _)| *slot == held).map(|(_, at)| at);
+        held
     }
 }
