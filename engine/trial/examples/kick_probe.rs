@@ -2,7 +2,7 @@
 //! `cargo run --release -p libero-trial --example kick_probe -- <count> <distance_m> [params.ron]`
 //! `CI_SIDES=1`: the live test's three approaches, repeated. `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`;
 //! `PLACE=1`: seeded setups at the kicking place within the approach's tolerances;
-//! `ONLY=i,j`: only those setups.
+//! `ONLY=i,j`: only those setups. `ROBOT=nao_typeN`: a NAO on SimSpark.
 use libero_skills::SkillParams;
 use libero_trial::kick_bench::{kick_once, setups, setups_at_place, KickSetup, KickSummary};
 use libero_trial::Trial;
@@ -12,7 +12,12 @@ fn main() {
     let a: Vec<String> = std::env::args().collect();
     let count: usize = a.get(1).and_then(|s| s.parse().ok()).unwrap_or(3);
     let distance: f64 = a.get(2).and_then(|s| s.parse().ok()).unwrap_or(8.0);
-    let mut trial = Trial::start().unwrap();
+    // ROBOT=nao_type0 kicks a NAO on SimSpark (default: the T1).
+    let robot = std::env::var("ROBOT").unwrap_or_else(|_| "T1".into());
+    let mut trial = Trial::start_on(std::sync::Arc::new(
+        libero_model::RobotModel::builtin(&robot).unwrap(),
+    ))
+    .unwrap();
     let model = trial.model().clone();
     let params = match a.get(3) {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),
