@@ -109,6 +109,8 @@ pub struct Skills {
     pose: Vec<f64>,
     gains: gains::GainTable,
     save_motions: save::SaveMotions,
+    /// The key-frame kicks per foot, built when the parameters load.
+    kick_frames: kick::KickFrames,
 }
 
 impl Skills {
@@ -127,6 +129,7 @@ impl Skills {
             walked: false,
             gains: gains::GainTable::new(model, &params),
             save_motions: params.save.motions(),
+            kick_frames: kick::KickFrames::of(&params.kick),
             params,
             last_pose: stand.clone(),
             pose: stand.clone(),
@@ -156,6 +159,7 @@ impl Skills {
         self.stand = stand;
         self.gains = gains::GainTable::new(model, &params);
         self.save_motions = params.save.motions();
+        self.kick_frames = kick::KickFrames::of(&params.kick);
         self.params = params;
         Ok(())
     }
@@ -399,8 +403,13 @@ impl Skills {
             self.pose.copy_from_slice(held);
             ActiveSkill::Save
         } else if kick == Some(kick::KickOutput::Motion) {
-            self.kick
-                .write_pose(world, &self.params.kick, &mut self.pose);
+            self.kick.write_pose(
+                world,
+                &self.params.kick,
+                &self.kick_frames,
+                model,
+                &mut self.pose,
+            );
             ActiveSkill::Kick
         } else if request.is_some()
             || self.walk.is_stepping()
@@ -457,10 +466,13 @@ impl Skills {
         if std::mem::take(&mut self.stand_changed) && self.blend.is_none() {
             self.start_blend(world.time);
         }
-        if !matches!(
-            active,
-            ActiveSkill::GetUp | ActiveSkill::Save | ActiveSkill::Motion
-        ) {
+        let keyframed_kick = active == ActiveSkill::Kick && self.kick.playing_keyframes();
+        if !keyframed_kick
+            && !matches!(
+                active,
+                ActiveSkill::GetUp | ActiveSkill::Save | ActiveSkill::Motion
+            )
+        {
             // The get-up and save motions start from the measured angles and must not be
             // softened.
             self.apply_blend(world.time);
@@ -479,11 +491,11 @@ impl Skills {
                 .unwrap_or(DiveSide::Centre);
             self.gains.save(side, out);
         }
+        // A key-frame kick plays with the model's gains, as named motions do (the frames
+        // were found that way).
         if stand_balanced
-            || matches!(
-                self.active,
-                ActiveSkill::Walk | ActiveSkill::Dribble | ActiveSkill::Kick
-            )
+            || matches!(self.active, ActiveSkill::Walk | ActiveSkill::Dribble)
+            || (self.active == ActiveSkill::Kick && !keyframed_kick)
         {
             self.gains.walk(out);
         }

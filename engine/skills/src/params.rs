@@ -158,7 +158,24 @@ impl SkillParams {
             crate::getup::validate_frames(&format!("motions.{name}"), frames, model, None)
                 .map_err(invalid)?;
         }
-        for motion in [&self.kick.short, &self.kick.long] {
+        for (name, motion) in [("short", &self.kick.short), ("long", &self.kick.long)] {
+            if let Some(frames) = &motion.keyframes {
+                crate::getup::validate_frames(
+                    &format!("kick.{name}.keyframes"),
+                    frames,
+                    model,
+                    None,
+                )
+                .map_err(invalid)?;
+                let mirrored: Vec<_> = frames.iter().map(crate::save::mirror_frame).collect();
+                crate::getup::validate_frames(
+                    &format!("kick.{name}.keyframes (mirrored for the left foot)"),
+                    &mirrored,
+                    model,
+                    None,
+                )
+                .map_err(invalid)?;
+            }
             for joint in motion.swing_gains.keys() {
                 if model.joint_id(&format!("left_{joint}")).is_none()
                     || model.joint_id(&format!("right_{joint}")).is_none()

@@ -19,7 +19,7 @@ use libero_model::RobotModel;
 use libero_world::World;
 use motion::{MotionPlan, Phase};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
-pub use params::{ApproachPath, KickApproach, KickMotion, KickParams, KickSpread};
+pub use params::{ApproachPath, KickApproach, KickFrames, KickMotion, KickParams, KickSpread};
 
 /// Where a kick request stands; callers (behavior nodes) succeed on `Done`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -105,6 +105,8 @@ struct Running {
     plan: MotionPlan,
     started_s: f64,
     long: bool,
+    /// Key frames play instead of the plan (`KickMotion::keyframes`).
+    keyframed: bool,
 }
 
 /// The kick skill of one robot.
@@ -132,6 +134,11 @@ pub struct Kick {
     /// Stepping back from the kicking place for a fresh approach until then.
     retreating_until: Option<f64>,
     angles: Vec<f64>,
+    /// The key-frame kick's playhead (started from the measured angles at its first cycle)
+    /// and whether its frames have played out.
+    head: crate::getup::Playhead,
+    frames_started: bool,
+    frames_ended: bool,
 }
 
 impl Kick {
@@ -153,6 +160,9 @@ impl Kick {
             failed_looks: 0,
             retreating_until: None,
             angles: vec![0.0; model.joints.len()],
+            head: crate::getup::Playhead::with_room(model.joints.len()),
+            frames_started: false,
+            frames_ended: false,
         })
     }
 
@@ -168,10 +178,11 @@ impl Kick {
     /// True while the long kick's swing is running (its gains apply).
     fn swinging(&self, now: f64) -> bool {
         self.running.as_ref().is_some_and(|r| {
-            matches!(
-                r.plan.at(now - r.started_s).phase,
-                Phase::Windup | Phase::Swing | Phase::Retract
-            )
+            !r.keyframed
+                && matches!(
+                    r.plan.at(now - r.started_s).phase,
+                    Phase::Windup | Phase::Swing | Phase::Retract
+                )
         })
     }
 
@@ -246,9 +257,18 @@ impl Kick {
 
     /// The kick motion has played out (or none runs).
     fn motion_over(&self, now: f64) -> bool {
-        self.running
-            .as_ref()
-            .is_none_or(|r| now - r.started_s >= r.plan.duration_s())
+        self.running.as_ref().is_none_or(|r| {
+            if r.keyframed {
+                self.frames_ended
+            } else {
+                now - r.started_s >= r.plan.duration_s()
+            }
+        })
+    }
+
+    /// A key-frame kick is playing (its gains are the model's, and nothing blends into it).
+    pub fn playing_keyframes(&self) -> bool {
+        self.running.as_ref().is_some_and(|r| r.keyframed)
     }
 
     /// One cycle of a kick request. The kick starts only once the robot stands still at the
@@ -284,6 +304,14 @@ impl Kick {
             _ => approach::natural_foot(request.ball, request.direction_deg),
         };
         self.foot = near.then_some(foot);
+        // A key-frame kick sends the ball off the heading by its own aim: face off by as much.
+        let long = request.distance_m >= k.long_kick_from_m;
+        let m = if long { &k.long } else { &k.short };
+        let facing_deg = if m.keyframes.is_some() {
+            request.direction_deg + foot.sign() * m.keyframe_aim_deg
+        } else {
+            request.direction_deg
+        };
         // Near the place the estimates taken while walking are too rough for the kick's
         // tolerances (the walk sways the camera): stop, look while standing, then either kick
         // or walk a short correction and look again.
@@ -309,7 +337,7 @@ impl Kick {
             travel,
             tolerance_scale: if walking { a.stop_within } else { 1.0 },
         };
-        let step = approach::step(request.ball, request.direction_deg, foot, moving, a, w);
+        let step = approach::step(request.ball, facing_deg, foot, moving, a, w);
         let looking = !matches!(step, ApproachStep::Walk(_));
         if looking != self.looking {
             log::debug!(
@@ -365,7 +393,7 @@ impl Kick {
         let request = KickRequest { ball, ..request };
         let step = approach::step(
             ball,
-            request.direction_deg,
+            facing_deg,
             foot,
             approach::Moving {
                 looking: true,
@@ -401,8 +429,6 @@ impl Kick {
                 KickOutput::Walk(Some(correction))
             }
             ApproachStep::Ready => {
-                let long = request.distance_m >= k.long_kick_from_m;
-                let m = if long { &k.long } else { &k.short };
                 // The residual direction error is made up by turning the kicking foot.
                 let plan = MotionPlan::new(
                     foot,
@@ -425,7 +451,10 @@ impl Kick {
                     plan,
                     started_s: now,
                     long,
+                    keyframed: m.keyframes.is_some(),
                 });
+                self.frames_started = false;
+                self.frames_ended = false;
                 self.state = KickState::Kicking;
                 KickOutput::Motion
             }
@@ -433,8 +462,30 @@ impl Kick {
     }
 
     /// The kick motion's leg angles for this cycle into `pose` [deg per joint].
-    pub fn write_pose(&mut self, world: &World, k: &KickParams, pose: &mut [f64]) {
+    pub fn write_pose(
+        &mut self,
+        world: &World,
+        k: &KickParams,
+        frames: &KickFrames,
+        model: &RobotModel,
+        pose: &mut [f64],
+    ) {
         let Some(r) = &self.running else { return };
+        if r.keyframed {
+            if !self.frames_started {
+                self.head.restart(&world.body.joint_angles, world.time);
+                self.frames_started = true;
+            }
+            let sensed = crate::getup::Sensed::from_body(&world.body);
+            let motion = frames.get(r.long, r.plan.foot);
+            match crate::getup::step(&mut self.head, motion, world.time, &sensed, model, pose) {
+                crate::getup::Step::Playing => {}
+                crate::getup::Step::Ended | crate::getup::Step::TimedOut(_) => {
+                    self.frames_ended = true;
+                }
+            }
+            return;
+        }
         let now = world.time;
         let frame = r.plan.at(now - r.started_s);
         let level_to_torso =

@@ -155,8 +155,20 @@ pub struct KickApproach {
 
 /// One kick motion, in phases: shift the weight onto the support leg, lift and wind up the
 /// kicking foot, swing it through the ball, bring it back, and shift the weight back.
+/// With `keyframes`, those key frames are played instead (the phases' numbers then only
+/// describe nothing the kick uses but `roll_out_m` and the gains).
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 pub struct KickMotion {
+    /// Key frames of a kick with the right foot, played from the measured angles instead of
+    /// the IK-placed swing (the left foot plays their mirror image): for a robot whose legs
+    /// cannot swing through the ball along a planned line (the NAO's nearly straight legs,
+    /// NOTES.md session 20). Absent: the IK kick.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub keyframes: Option<Vec<crate::getup::Keyframe>>,
+    /// Where the key-frame kick sends the ball, relative to the robot's heading, for the
+    /// right foot [deg] (mirrored for the left): the approach faces off by as much.
+    #[serde(default)]
+    pub keyframe_aim_deg: f64,
     /// Phase durations [s].
     pub shift_s: f64,
     pub windup_s: f64,
@@ -216,6 +228,37 @@ pub struct KickMotion {
 /// (rcssservermj.md §3.1; hip pitch ≈ 31).
 const MAX_KD: f64 = 30.0;
 const MAX_KP: f64 = 3000.0;
+
+/// The key-frame kicks as played, per foot (the left foot's mirrored from the right's once,
+/// when the parameters load: a kick during play copies nothing).
+#[derive(Debug, Clone, Default)]
+pub struct KickFrames {
+    /// `[left, right]` of the short kick, then of the long one; empty without key frames.
+    short: [Vec<crate::getup::Keyframe>; 2],
+    long: [Vec<crate::getup::Keyframe>; 2],
+}
+
+impl KickFrames {
+    pub fn of(k: &KickParams) -> Self {
+        let both = |m: &KickMotion| match &m.keyframes {
+            Some(right) => [
+                right.iter().map(crate::save::mirror_frame).collect(),
+                right.clone(),
+            ],
+            None => [Vec::new(), Vec::new()],
+        };
+        Self {
+            short: both(&k.short),
+            long: both(&k.long),
+        }
+    }
+
+    /// The key frames of the long or short kick with `foot`; empty for an IK kick.
+    pub fn get(&self, long: bool, foot: crate::walk::gait::Foot) -> &[crate::getup::Keyframe] {
+        let both = if long { &self.long } else { &self.short };
+        &both[foot.index()]
+    }
+}
 
 impl KickParams {
     pub fn validate(&self) -> Check {

@@ -365,3 +365,107 @@ fn a_kick_motion_plays_on_through_a_cycle_without_the_request_but_an_approach_do
     assert_eq!(kick.carry_on(10.02), None);
     assert_eq!(kick.state(), KickState::Idle);
 }
+
+#[test]
+fn a_key_frame_kick_plays_its_frames_mirrored_for_the_left_foot_and_faces_off_by_its_aim() {
+    use crate::getup::Keyframe;
+    let t1 = RobotModel::builtin("T1").unwrap();
+    let mut p = crate::SkillParams::builtin(&t1).unwrap();
+    // The right foot's kick: a swing of the right hip, the body rolled over the left leg.
+    let frame = |duration_s: f64, pose: &[(&str, f64)]| Keyframe {
+        duration_s,
+        pose: pose.iter().map(|(j, a)| (j.to_string(), *a)).collect(),
+        until: None,
+        timeout_s: 1.0,
+        hold_s: 0.0,
+        on_timeout: None,
+        balance_pitch_deg: None,
+    };
+    p.kick.long.keyframes = Some(vec![
+        frame(
+            0.2,
+            &[("right_hip_pitch", -30.0), ("right_hip_roll", -10.0)],
+        ),
+        frame(0.1, &[("right_hip_pitch", -60.0)]),
+    ]);
+    p.kick.long.keyframe_aim_deg = -10.0;
+    p.validate(&t1).unwrap();
+    let frames = KickFrames::of(&p.kick);
+    let (k, w) = (&p.kick, &p.walk);
+    let mut world = libero_world::World::new(&t1, "t", 2);
+    let hip_pitch = |side: &str| t1.joint_id(&format!("{side}_hip_pitch")).unwrap();
+    let hip_roll = |side: &str| t1.joint_id(&format!("{side}_hip_roll")).unwrap();
+    // The ball before the left foot, to be kicked straight on: the left foot plays the
+    // mirrored frames, so the robot must face 10° to the right of the kick (the mirrored
+    // kick goes 10° left of the heading): at heading 0 it is not ready, at -10° it is.
+    let ball = [k.approach.ball_ahead_m, k.approach.ball_beside_m];
+    let request = |direction_deg| KickRequest {
+        ball,
+        direction_deg,
+        distance_m: 8.0,
+    };
+    let mut kick = Kick::new(&t1).unwrap();
+    let mut t = 0.0;
+    while t < 2.0 && kick.update(request(0.0), t, body(false, 0.0), k, w) != KickOutput::Motion {
+        t += 0.02;
+    }
+    assert_ne!(
+        kick.state(),
+        KickState::Kicking,
+        "kicked facing the kick line"
+    );
+    let mut kick = Kick::new(&t1).unwrap();
+    // Facing 10° to the right of the kick line: the ball lies 10° to the left.
+    let turned = |v: [f64; 2]| {
+        let (c, s) = (10f64.to_radians().cos(), 10f64.to_radians().sin());
+        [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+    };
+    let request = KickRequest {
+        ball: turned(ball),
+        direction_deg: 10.0,
+        distance_m: 8.0,
+    };
+    let mut t = 0.0;
+    while kick.update(request, t, body(false, 0.0), k, w) != KickOutput::Motion {
+        assert!(t < 2.0, "no kick");
+        t += 0.02;
+    }
+    assert_eq!(kick.foot(), Some(Foot::Left));
+    assert!(kick.playing_keyframes());
+    assert_eq!(kick.swinging_with(t), None, "no swing gains for key frames");
+    // Played from the measured angles: after the first frame the left hip holds its target,
+    // mirrored (roll negated).
+    let mut pose = vec![0.0; t1.joints.len()];
+    let mut now = t;
+    while now < t + 0.2 + 1e-9 {
+        world.time = now;
+        kick.update(request, now, body(false, 0.0), k, w);
+        kick.write_pose(&world, k, &frames, &t1, &mut pose);
+        now += 0.02;
+    }
+    assert!(
+        (pose[hip_pitch("left")] + 30.0).abs() < 1e-6,
+        "{}",
+        pose[hip_pitch("left")]
+    );
+    assert!(
+        (pose[hip_roll("left")] - 10.0).abs() < 1e-6,
+        "{}",
+        pose[hip_roll("left")]
+    );
+    // Played out: done.
+    while now < t + 1.0 && kick.state() != KickState::Done {
+        world.time = now;
+        kick.update(request, now, body(false, 0.0), k, w);
+        if kick.state() == KickState::Kicking {
+            kick.write_pose(&world, k, &frames, &t1, &mut pose);
+        }
+        now += 0.02;
+    }
+    assert_eq!(kick.state(), KickState::Done);
+    assert!(
+        now < t + 0.5,
+        "the frames take 0.3 s, done at {:.2}",
+        now - t
+    );
+}

@@ -159,7 +159,11 @@ pub fn mirror_joint(joint: &str) -> (String, f64) {
     } else {
         joint.to_string()
     };
-    let sign = if joint.contains("roll") || joint.contains("yaw") || joint == "waist" {
+    // The NAO's hip_yaw_pitch axes are each other's mirror image already ((0, ±0.71, −0.71)
+    // reflected in the sagittal plane), so its angle keeps its sign like a pitch.
+    let sign = if joint.ends_with("yaw_pitch") {
+        1.0
+    } else if joint.contains("roll") || joint.contains("yaw") || joint == "waist" {
         -1.0
     } else {
         1.0

@@ -315,3 +315,27 @@ fn after_a_dive_the_robot_stays_down_while_the_request_is_held_then_gets_up() {
     }
     assert_eq!(active, ActiveSkill::GetUp);
 }
+
+#[test]
+fn a_mirrored_angle_turns_each_shipped_robots_joint_into_its_partners_mirror_image() {
+    // Reflecting the body in its sagittal plane maps a rotation axis (x, y, z) to (−x, y, −z);
+    // the partner joint turns the mirror way when that equals `sign` times its own axis.
+    for name in RobotModel::builtin_names() {
+        let model = RobotModel::builtin(name).unwrap();
+        for joint in model.joints.iter().filter(|j| j.name.starts_with("left_")) {
+            let (partner, sign) = mirror_joint(&joint.name);
+            let Some(other) = model.joints.iter().find(|j| j.name == partner) else {
+                continue;
+            };
+            let [x, y, z] = joint.axis;
+            let reflected = [-x, y, -z];
+            for (r, o) in reflected.iter().zip(other.axis) {
+                assert!(
+                    (r - sign * o).abs() < 1e-9,
+                    "{name}: {} mirrored with sign {sign} is not {partner}",
+                    joint.name
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,227 @@
+//! Experiment helper: CMA-ES over a key-frame kick's numbers (a named motion of the parameter
+//! file) and where the ball lies before it, on the real server.
+//! `motion_kick_search <params.ron> <motion> <spec> <generations>`; `ROBOT` (default
+//! nao_type0). Spec lines: `d <frame> <lo> <hi>` (a duration), `J <frame> <joint> <lo> <hi>`,
+//! `ax <lo> <hi>`, `ay <lo> <hi>` (the ball's place in the robot frame before the kick).
+//! Each candidate kicks from `PLACEMENTS` (2) spots; the cost rewards distance along the
+//! robot's heading and punishes the direction's error and falls. The best so far is printed
+//! after every generation as RON key frames.
+use libero_skills::getup::Keyframe;
+use libero_skills::{BodyIntent, Intent, SkillParams};
+use libero_trial::cmaes::CmaEs;
+use libero_trial::{Episode, Trial};
+use std::sync::{Arc, Mutex};
+
+/// The ball when the kick began and now, and whether it fell / the lowest torso height.
+type Progress = (Option<[f64; 3]>, Option<[f64; 3]>, bool);
+
+enum Knob {
+    Duration(usize),
+    Joint(usize, String),
+    BallX,
+    BallY,
+}
+
+struct Dim {
+    knob: Knob,
+    lo: f64,
+    hi: f64,
+}
+
+/// One kick: the ball's travel [m] and direction [deg, robot frame], and whether it fell.
+fn kick(
+    trial: &mut Trial,
+    params: &SkillParams,
+    motion: &str,
+    y: f64,
+    ball: [f64; 2],
+) -> (f64, f64, bool) {
+    let id = params.motion_id(motion).expect("no such motion");
+    let model = trial.model().clone();
+    let ball_z = libero_model::FieldGeometry::builtin(model.server.default_field())
+        .unwrap()
+        .ball_radius;
+    let fallen_below = model.standing_torso_height * 0.5;
+    let start = [-5.0, y, 0.0];
+    let at = [start[0] + ball[0], y + ball[1]];
+    let monitor = trial.monitor();
+    let out: Arc<Mutex<Progress>> = Arc::new(Mutex::new((None, None, false)));
+    let shared = Arc::clone(&out);
+    let place = format!("(ball (pos {} {} {ball_z})(vel 0 0 0))", at[0], at[1]);
+    let mut placed = false;
+    let script = move |w: &libero_world::World, t: f64| -> Option<Intent> {
+        let mut m = monitor.lock().ok()?;
+        if !placed && t > 0.3 {
+            let _ = m.send(&place);
+            placed = true;
+        }
+        let b = m.snapshot().ball;
+        drop(m);
+        let mut o = shared.lock().ok()?;
+        if w.truth.torso_position.is_some_and(|p| p[2] < fallen_below) {
+            o.2 = true;
+        }
+        if t < 1.0 {
+            return Some(Intent::default());
+        }
+        if o.0.is_none() {
+            o.0 = b;
+        }
+        o.1 = b;
+        (t < 4.5).then(|| Intent {
+            body: if t < 2.8 {
+                BodyIntent::Motion { id }
+            } else {
+                BodyIntent::Stand
+            },
+            ..Default::default()
+        })
+    };
+    if trial
+        .run(
+            params,
+            Episode {
+                start,
+                lying: None,
+                settle_s: 0.5,
+                script,
+            },
+        )
+        .is_err()
+    {
+        return (0.0, 0.0, true);
+    }
+    let o = out.lock().unwrap();
+    match (o.0, o.1) {
+        (Some(s), Some(e)) => (
+            (e[0] - s[0]).hypot(e[1] - s[1]),
+            (e[1] - s[1]).atan2(e[0] - s[0]).to_degrees(),
+            o.2,
+        ),
+        _ => (0.0, 0.0, o.2),
+    }
+}
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let robot = std::env::var("ROBOT").unwrap_or_else(|_| "nao_type0".into());
+    let motion = a[2].clone();
+    let spec = std::fs::read_to_string(&a[3]).unwrap();
+    let generations: usize = a[4].parse().unwrap();
+    let placements: usize = std::env::var("PLACEMENTS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
+    let mut trial =
+        Trial::start_on(Arc::new(libero_model::RobotModel::builtin(&robot).unwrap())).unwrap();
+    let model = trial.model().clone();
+    let base = SkillParams::load(std::path::Path::new(&a[1]), &model).unwrap();
+    let mut dims = Vec::new();
+    for line in spec
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+    {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        let n = |i: usize| w[i].parse::<f64>().unwrap();
+        dims.push(match w[0] {
+            "d" => Dim {
+                knob: Knob::Duration(n(1) as usize),
+                lo: n(2),
+                hi: n(3),
+            },
+            "J" => Dim {
+                knob: Knob::Joint(n(1) as usize, w[2].to_string()),
+                lo: n(3),
+                hi: n(4),
+            },
+            "ax" => Dim {
+                knob: Knob::BallX,
+                lo: n(1),
+                hi: n(2),
+            },
+            "ay" => Dim {
+                knob: Knob::BallY,
+                lo: n(1),
+                hi: n(2),
+            },
+            other => panic!("unknown spec line {other}"),
+        });
+    }
+    let env = |k: &str, d: f64| {
+        std::env::var(k)
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(d)
+    };
+    let (ax0, ay0) = (env("AX", 0.12), env("AY", -0.055));
+    let frames0: Vec<Keyframe> = base.motions[&motion].to_vec();
+    // Start from the file's numbers (normalised to 0..1 in each range).
+    let start: Vec<f64> = dims
+        .iter()
+        .map(|d| {
+            let v = match &d.knob {
+                Knob::Duration(f) => frames0[*f].duration_s,
+                Knob::Joint(f, j) => frames0[*f]
+                    .pose
+                    .get(j)
+                    .copied()
+                    .unwrap_or((d.lo + d.hi) / 2.0),
+                Knob::BallX => ax0,
+                Knob::BallY => ay0,
+            };
+            ((v - d.lo) / (d.hi - d.lo)).clamp(0.0, 1.0)
+        })
+        .collect();
+    let apply = |x: &[f64]| -> (SkillParams, [f64; 2]) {
+        let mut frames = frames0.clone();
+        let mut ball = [ax0, ay0];
+        for (d, v) in dims.iter().zip(x) {
+            let v = d.lo + v.clamp(0.0, 1.0) * (d.hi - d.lo);
+            match &d.knob {
+                Knob::Duration(f) => frames[*f].duration_s = v,
+                Knob::Joint(f, j) => {
+                    frames[*f].pose.insert(j.clone(), v);
+                }
+                Knob::BallX => ball[0] = v,
+                Knob::BallY => ball[1] = v,
+            }
+        }
+        let mut p = base.clone();
+        p.motions.insert(motion.clone(), frames);
+        (p, ball)
+    };
+    let mut es = CmaEs::new(start.clone(), env("SIGMA", 0.15), None, 7);
+    let mut best = (f64::INFINITY, start);
+    for g in 0..generations {
+        let cands = es.ask();
+        let mut costs = Vec::new();
+        for c in &cands {
+            let (p, ball) = apply(c);
+            let mut cost = 0.0;
+            let mut line = String::new();
+            for k in 0..placements {
+                let (d, dir, fell) = kick(&mut trial, &p, &motion, -3.0 + 2.0 * k as f64, ball);
+                let along = d * dir.to_radians().cos();
+                // The direction is made up by facing off (`keyframe_aim_deg`) as long as it is
+                // not far to the side.
+                let _ = along;
+                cost += -d + 0.05 * (dir.abs() - 30.0).max(0.0) + if fell { 4.0 } else { 0.0 };
+                line += &format!(" {d:.2}m {dir:+.0}° {}", if fell { "FELL" } else { "" });
+            }
+            cost /= placements as f64;
+            eprintln!("g{g} cost {cost:.3}:{line}");
+            costs.push(cost);
+            if cost < best.0 {
+                best = (cost, c.clone());
+            }
+        }
+        es.tell(&cands, &costs);
+        let (p, ball) = apply(&best.1);
+        println!(
+            "generation {g}: best cost {:.3}, ball at ({:.3}, {:.3})",
+            best.0, ball[0], ball[1]
+        );
+        println!("{}", ron::ser::to_string(&p.motions[&motion]).unwrap());
+    }
+}
