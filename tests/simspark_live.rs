@@ -128,10 +128,21 @@ fn twenty_two_naos_join_stand_and_rejoin_a_restarted_server() {
             0,
             "agent {i} missed cycles"
         );
-        assert_eq!(
+        // The agents keep playing while they are read: a percept may be in flight (counted,
+        // its reply not yet sent). One left unanswered keeps the counts apart for good.
+        let balanced = (0..50).any(|_| {
+            let replies = AgentStats::get(&stats.replies);
+            let percepts = AgentStats::get(&stats.percepts);
+            replies == percepts || {
+                std::thread::sleep(Duration::from_millis(2));
+                false
+            }
+        });
+        assert!(
+            balanced,
+            "agent {i} left a percept unanswered: {} percepts, {} replies",
             AgentStats::get(&stats.percepts),
-            AgentStats::get(&stats.replies),
-            "agent {i} left a percept unanswered"
+            AgentStats::get(&stats.replies)
         );
     }
 
