@@ -3,8 +3,9 @@
 //! `motion_kick_search <params.ron> <motion> <spec> <generations>`; `ROBOT` (default
 //! nao_type0). Spec lines: `d <frame> <lo> <hi>` (a duration), `J <frame> <joint> <lo> <hi>`,
 //! `ax <lo> <hi>`, `ay <lo> <hi>` (the ball's place in the robot frame before the kick).
-//! Each candidate kicks from `PLACEMENTS` (2) spots; the cost rewards distance along the
-//! robot's heading and punishes the direction's error and falls. The best so far is printed
+//! Each candidate kicks from `PLACEMENTS` (1) spots, the ball `JITTER` [m] round its place in
+//! each (0: on it); the cost rewards the ball's travel and punishes a direction more than 30°
+//! off the heading and falls. The best so far is printed
 //! after every generation as RON key frames.
 use libero_skills::getup::Keyframe;
 use libero_skills::{BodyIntent, Intent, SkillParams};
@@ -155,6 +156,7 @@ fn main() {
             .unwrap_or(d)
     };
     let (ax0, ay0) = (env("AX", 0.12), env("AY", -0.055));
+    let jitter = env("JITTER", 0.0);
     let frames0: Vec<Keyframe> = base.motions[&motion].to_vec();
     // Start from the file's numbers (normalised to 0..1 in each range).
     let start: Vec<f64> = dims
@@ -201,11 +203,13 @@ fn main() {
             let mut cost = 0.0;
             let mut line = String::new();
             for k in 0..placements {
-                let (d, dir, fell) = kick(&mut trial, &p, &motion, -3.0 + 2.0 * k as f64, ball);
-                let along = d * dir.to_radians().cos();
+                // With JITTER, each placement moves the ball that far round the candidate's
+                // place (a kick that only works at one spot is no use after a walking approach).
+                let turn = std::f64::consts::TAU * k as f64 / placements as f64;
+                let at = [ball[0] + jitter * turn.cos(), ball[1] + jitter * turn.sin()];
+                let (d, dir, fell) = kick(&mut trial, &p, &motion, -3.0 + 2.0 * k as f64, at);
                 // The direction is made up by facing off (`keyframe_aim_deg`) as long as it is
                 // not far to the side.
-                let _ = along;
                 cost += -d + 0.05 * (dir.abs() - 30.0).max(0.0) + if fell { 4.0 } else { 0.0 };
                 line += &format!(" {d:.2}m {dir:+.0}° {}", if fell { "FELL" } else { "" });
             }
