@@ -1,7 +1,8 @@
 //! Experiment helper: CMA-ES over a key-frame kick's numbers (a named motion of the parameter
 //! file) and where the ball lies before it, on the real server.
-//! `motion_kick_search <params.ron> <motion> <spec> <generations>`; `ROBOT` (default
-//! nao_type0). Spec lines: `d <frame> <lo> <hi>` (a duration), `J <frame> <joint> <lo> <hi>`,
+//! `motion_kick_search <params.ron> <motion> <spec|-> <generations>`; `ROBOT` (default
+//! nao_type0). With 0 generations (spec `-`), a probe: the file's motion played as it stands
+//! from each placement, the ball at `AX`, `AY`. Spec lines: `d <frame> <lo> <hi>` (a duration), `J <frame> <joint> <lo> <hi>`,
 //! `ax <lo> <hi>`, `ay <lo> <hi>` (the ball's place in the robot frame before the kick).
 //! Each candidate kicks from `PLACEMENTS` (1) spots, the ball `JITTER` [m] round its place in
 //! each (0: on it); the cost rewards the ball's travel and punishes a direction more than 30°
@@ -107,7 +108,12 @@ fn main() {
     let a: Vec<String> = std::env::args().collect();
     let robot = std::env::var("ROBOT").unwrap_or_else(|_| "nao_type0".into());
     let motion = a[2].clone();
-    let spec = std::fs::read_to_string(&a[3]).unwrap();
+    // `-`: no knobs (with 0 generations, a probe of the file's motion as it stands).
+    let spec = if a[3] == "-" {
+        String::new()
+    } else {
+        std::fs::read_to_string(&a[3]).unwrap()
+    };
     let generations: usize = a[4].parse().unwrap();
     let placements: usize = std::env::var("PLACEMENTS")
         .ok()
@@ -193,6 +199,24 @@ fn main() {
         p.motions.insert(motion.clone(), frames);
         (p, ball)
     };
+    if generations == 0 {
+        // A probe: the file's motion from each placement, nothing searched.
+        let mut total = 0.0;
+        for k in 0..placements {
+            let turn = std::f64::consts::TAU * k as f64 / placements as f64;
+            let at = [ax0 + jitter * turn.cos(), ay0 + jitter * turn.sin()];
+            let (d, dir, fell) = kick(&mut trial, &base, &motion, -3.0 + 2.0 * k as f64, at);
+            println!(
+                "kick {k}: ball at ({:.3}, {:.3}) moved {d:.2} m at {dir:+.1} deg{}",
+                at[0],
+                at[1],
+                if fell { ", FELL" } else { "" }
+            );
+            total += d;
+        }
+        println!("mean {:.2} m", total / placements.max(1) as f64);
+        return;
+    }
     let mut es = CmaEs::new(start.clone(), env("SIGMA", 0.15), None, 7);
     let mut best = (f64::INFINITY, start);
     for g in 0..generations {

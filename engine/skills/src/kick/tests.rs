@@ -368,19 +368,10 @@ fn a_kick_motion_plays_on_through_a_cycle_without_the_request_but_an_approach_do
 
 #[test]
 fn a_key_frame_kick_plays_its_frames_mirrored_for_the_left_foot_and_faces_off_by_its_aim() {
-    use crate::getup::Keyframe;
+    use crate::save::tests::frame;
     let t1 = RobotModel::builtin("T1").unwrap();
     let mut p = crate::SkillParams::builtin(&t1).unwrap();
     // The right foot's kick: a swing of the right hip, the body rolled over the left leg.
-    let frame = |duration_s: f64, pose: &[(&str, f64)]| Keyframe {
-        duration_s,
-        pose: pose.iter().map(|(j, a)| (j.to_string(), *a)).collect(),
-        until: None,
-        timeout_s: 1.0,
-        hold_s: 0.0,
-        on_timeout: None,
-        balance_pitch_deg: None,
-    };
     p.kick.long.keyframes = Some(vec![
         frame(
             0.2,

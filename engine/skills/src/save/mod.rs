@@ -6,7 +6,7 @@
 //! dive ends with the robot lying; the fall detector and the get-up then stand it up.
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;
 
 use crate::getup::{self, Keyframe, Playhead, Sensed, Step};
 use libero_model::{Gains, RobotModel};

@@ -3,7 +3,8 @@ use crate::getup::Condition;
 use libero_model::RobotModel;
 use libero_world::World;
 
-fn frame(duration_s: f64, pose: &[(&str, f64)]) -> Keyframe {
+/// A plain timed key frame (no IMU condition), for tests of anything that plays frames.
+pub(crate) fn frame(duration_s: f64, pose: &[(&str, f64)]) -> Keyframe {
     Keyframe {
         duration_s,
         pose: pose.iter().map(|(j, a)| (j.to_string(), *a)).collect(),
