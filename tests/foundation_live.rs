@@ -141,4 +141,10 @@ fn agents_reconnect_within_two_seconds_of_a_restarted_server() {
     assert_all_standing(&team, nominal_stand_height(), "after reconnecting");
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     team.join();
+    // The server's temporary run folder goes with it (a machine running the suite used to
+    // collect hundreds of them).
+    let run_dir = server.work_dir.clone();
+    assert!(run_dir.join("server.log").exists());
+    drop(server);
+    assert!(!run_dir.exists(), "{} left behind", run_dir.display());
 }

@@ -117,6 +117,8 @@ pub fn wait_until(limit: Duration, mut pred: impl FnMut() -> bool) -> Option<Dur
 /// live tests run side by side, each on its own copy. Returns the two folders.
 pub fn copy_of_shipped_data(name: &str) -> Vec<std::path::PathBuf> {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    // Copies left by test runs that were killed go first.
+    libero_server::scratch::remove_orphaned_dirs(&std::env::temp_dir(), "libero-data");
     let dest = std::env::temp_dir().join(format!("libero-data-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dest);
     let mut dirs = Vec::new();

@@ -7,6 +7,7 @@
 
 pub mod monitor;
 pub mod process;
+pub mod scratch;
 pub mod simspark;
 pub mod simspark_scene;
 pub mod venv;

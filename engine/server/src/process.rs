@@ -120,6 +120,11 @@ pub struct ServerProcess {
     pub agent_port: u16,
     pub monitor_port: u16,
     pub work_dir: PathBuf,
+    /// The run folder is ours (a fresh temporary one) and goes when the server is dropped,
+    /// unless `keep_files` says its log explains something.
+    own_work_dir: bool,
+    /// The server failed to start or ended on its own: its log is named in an error.
+    keep_files: bool,
 }
 
 const START_TIMEOUT: Duration = Duration::from_secs(60);
@@ -132,6 +137,7 @@ impl ServerProcess {
             ServerKind::SimSpark => Program::SimSpark(ensure_simspark_installed(None)?),
         };
         let (agent_port, monitor_port) = choose_ports(options.agent_port, options.monitor_port)?;
+        let own_work_dir = options.work_dir.is_none();
         let work_dir = match &options.work_dir {
             Some(dir) => dir.clone(),
             None => fresh_dir()?,
@@ -146,6 +152,8 @@ impl ServerProcess {
             agent_port,
             monitor_port,
             work_dir,
+            own_work_dir,
+            keep_files: false,
         };
         let chosen_by_us =
             server.options.agent_port.is_none() && server.options.monitor_port.is_none();
@@ -158,7 +166,11 @@ impl ServerProcess {
                     (server.agent_port, server.monitor_port) = choose_ports(None, None)?;
                     attempt += 1;
                 }
-                result => return result.map(|()| server),
+                Err(e) => {
+                    server.keep_files = true;
+                    return Err(e);
+                }
+                Ok(()) => return Ok(server),
             }
         }
     }
@@ -323,9 +335,14 @@ impl ServerProcess {
 
     /// Whether the process is still running.
     pub fn is_running(&mut self) -> bool {
-        self.child
+        let running = self
+            .child
             .as_mut()
-            .is_some_and(|c| matches!(c.try_wait(), Ok(None)))
+            .is_some_and(|c| matches!(c.try_wait(), Ok(None)));
+        if !running && self.child.is_some() {
+            self.keep_files = true;
+        }
+        running
     }
 
     /// Stop the server: SIGINT (its clean shutdown), then SIGKILL if it lingers. Only the
@@ -334,6 +351,11 @@ impl ServerProcess {
         let Some(mut child) = self.child.take() else {
             return;
         };
+        if let Ok(Some(_)) = child.try_wait() {
+            // It ended before we asked: its log may say why.
+            self.keep_files = true;
+            return;
+        }
         if let Ok(pid) = i32::try_from(child.id()) {
             // SAFETY: `pid` is our own child, not yet reaped (we hold its `Child`), so the
             // number cannot have been reused by another process.
@@ -368,6 +390,9 @@ impl ServerProcess {
 impl Drop for ServerProcess {
     fn drop(&mut self) {
         self.stop();
+        if self.own_work_dir && !self.keep_files {
+            let _ = std::fs::remove_dir_all(&self.work_dir);
+        }
     }
 }
 
@@ -380,16 +405,12 @@ fn read_text(path: &PathBuf) -> String {
 }
 
 fn fresh_dir() -> Result<PathBuf, ServerError> {
-    use std::sync::atomic::{AtomicU32, Ordering};
-    static COUNTER: AtomicU32 = AtomicU32::new(0);
-    let dir = std::env::temp_dir().join(format!(
-        "libero-server-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    std::fs::create_dir_all(&dir).map_err(|e| ServerError::Io(dir.display().to_string(), e))?;
-    Ok(dir)
+    crate::scratch::fresh_dir(RUN_DIR_PREFIX)
+        .map_err(|e| ServerError::Io(std::env::temp_dir().display().to_string(), e))
 }
+
+/// Run folders are `$TMPDIR/libero-server-<pid>-<n>`.
+const RUN_DIR_PREFIX: &str = "libero-server";
 
 /// Ports chosen for a server without requested ones: below Linux's ephemeral range
 /// (32768–60999). A free port from the OS (`bind(0)`) lies in that range, and between our
