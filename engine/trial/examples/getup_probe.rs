@@ -15,7 +15,12 @@ fn main() {
     } else {
         Lying::Front
     };
-    let mut trial = Trial::start().unwrap();
+    // ROBOT=nao_type0 watches a NAO on SimSpark (default: the T1).
+    let robot = std::env::var("ROBOT").unwrap_or_else(|_| "T1".into());
+    let mut trial = Trial::start_on(std::sync::Arc::new(
+        libero_model::RobotModel::builtin(&robot).unwrap(),
+    ))
+    .unwrap();
     let model = trial.model().clone();
     let params = match a.get(2).filter(|p| !p.is_empty() && *p != "-") {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),
