@@ -5,8 +5,9 @@
 //! from each placement, the ball at `AX`, `AY`. Spec lines: `d <frame> <lo> <hi>` (a duration), `J <frame> <joint> <lo> <hi>`,
 //! `ax <lo> <hi>`, `ay <lo> <hi>` (the ball's place in the robot frame before the kick).
 //! Each candidate kicks from `PLACEMENTS` (1) spots, the ball `JITTER` [m] round its place in
-//! each (0: on it); the cost rewards the ball's travel and punishes a direction more than 30°
-//! off the heading and falls. The best so far is printed
+//! each (0: on it); the cost rewards the ball's mean travel and punishes a mean direction more
+//! than 30° off the heading, the directions' spread (`SPREAD_WEIGHT` m per deg, 0.05) and falls.
+//! The best so far is printed
 //! after every generation as RON key frames.
 use libero_skills::getup::Keyframe;
 use libero_skills::{BodyIntent, Intent, SkillParams};
@@ -102,6 +103,28 @@ fn kick(
         ),
         _ => (0.0, 0.0, o.2),
     }
+}
+
+/// The cost of one candidate's kicks (distance, direction, fell): the mean distance to gain;
+/// a mean direction more than 30° to the side (within that, `keyframe_aim_deg` makes it up),
+/// the spread of the directions round their mean (no aim makes that up) and falls to lose.
+fn kick_cost(kicks: &[(f64, f64, bool)]) -> f64 {
+    let n = kicks.len().max(1) as f64;
+    let mean_d = kicks.iter().map(|k| k.0).sum::<f64>() / n;
+    let mean_dir = kicks.iter().map(|k| k.1).sum::<f64>() / n;
+    let spread = kicks.iter().map(|k| (k.1 - mean_dir).abs()).sum::<f64>() / n;
+    let falls = kicks.iter().filter(|k| k.2).count() as f64;
+    -mean_d
+        + 0.05 * (mean_dir.abs() - 30.0).max(0.0)
+        + env_weight("SPREAD_WEIGHT", 0.05) * spread
+        + 4.0 * falls / n
+}
+
+fn env_weight(key: &str, default: f64) -> f64 {
+    std::env::var(key)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
 }
 
 fn main() {
@@ -224,20 +247,18 @@ fn main() {
         let mut costs = Vec::new();
         for c in &cands {
             let (p, ball) = apply(c);
-            let mut cost = 0.0;
             let mut line = String::new();
+            let mut kicks = Vec::new();
             for k in 0..placements {
                 // With JITTER, each placement moves the ball that far round the candidate's
                 // place (a kick that only works at one spot is no use after a walking approach).
                 let turn = std::f64::consts::TAU * k as f64 / placements as f64;
                 let at = [ball[0] + jitter * turn.cos(), ball[1] + jitter * turn.sin()];
                 let (d, dir, fell) = kick(&mut trial, &p, &motion, -3.0 + 2.0 * k as f64, at);
-                // The direction is made up by facing off (`keyframe_aim_deg`) as long as it is
-                // not far to the side.
-                cost += -d + 0.05 * (dir.abs() - 30.0).max(0.0) + if fell { 4.0 } else { 0.0 };
                 line += &format!(" {d:.2}m {dir:+.0}° {}", if fell { "FELL" } else { "" });
+                kicks.push((d, dir, fell));
             }
-            cost /= placements as f64;
+            let cost = kick_cost(&kicks);
             eprintln!("g{g} cost {cost:.3}:{line}");
             costs.push(cost);
             if cost < best.0 {

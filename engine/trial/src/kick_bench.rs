@@ -46,6 +46,10 @@ pub struct KickOutcome {
     /// Direction of the ball's first `LAUNCH_M` of travel minus the requested direction [deg]
     /// (the rest of the difference to `direction_error_deg` is the ball curving as it rolls).
     pub launch_error_deg: Option<f64>,
+    /// Where the ball truly lay in the robot's frame (x forward, y left, from the torso
+    /// centre) when the kick motion began [m]: how close the approach put it to the kick's
+    /// place.
+    pub ball_in_robot_at_kick: Option<[f64; 2]>,
 }
 
 /// Seconds standing after placement, head panning, so the ball is seen and localization settles.
@@ -140,6 +144,7 @@ struct Progress {
     ball_start: Option<[f64; 3]>,
     kick_started_at: Option<f64>,
     ball_at_kick: Option<[f64; 3]>,
+    ball_in_robot_at_kick: Option<[f64; 2]>,
     done_at: Option<f64>,
     ball_end: Option<[f64; 3]>,
     fell: bool,
@@ -246,6 +251,15 @@ pub fn kick_once(
         if kick == KickState::Kicking && p.kick_started_at.is_none() {
             p.kick_started_at = Some(since_request);
             p.ball_at_kick = truth_ball;
+            p.ball_in_robot_at_kick = truth_ball
+                .zip(world.truth.torso_position)
+                .zip(world.truth.torso_orientation)
+                .map(|((b, torso), [w, x, y, z])| {
+                    let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
+                    let (dx, dy) = (b[0] - torso[0], b[1] - torso[1]);
+                    let (sin, cos) = yaw.sin_cos();
+                    [cos * dx + sin * dy, -sin * dx + cos * dy]
+                });
         }
         if kick == KickState::Kicking || (kick == KickState::Done && p.contact.is_none()) {
             if let Some(tracer) = tracer.as_mut() {
@@ -338,6 +352,7 @@ pub fn kick_once(
         time_to_kick_s: p.kick_started_at,
         fell: p.fell || rec.samples.iter().any(|s| s.low),
         contact: p.contact,
+        ball_in_robot_at_kick: p.ball_in_robot_at_kick,
         launch_error_deg: p.ball_at_kick.zip(p.launch).map(|(a, b)| {
             wrap_deg((b[1] - a[1]).atan2(b[0] - a[0]).to_degrees() - setup.direction_deg)
         }),
@@ -416,7 +431,8 @@ pub fn kicks(
         let o = kick_once(trial, params, setup, KICK_LIMIT_S)?;
         log::info!(
             "kick {i:2}: robot ({:6.2}, {:6.2}, {:6.1}°) ball ({:6.2}, {:6.2}) towards {:6.1}°: \
-             {:5.2} m, error {:+6.1}°, kicked {}, after {:.1} s, bumped {}, fell {}",
+             {:5.2} m, error {:+6.1}°, kicked {}, after {:.1} s, bumped {}, fell {}, ball in the \
+             robot frame at the kick {:?}",
             setup.robot[0],
             setup.robot[1],
             setup.robot[2],
@@ -428,7 +444,10 @@ pub fn kicks(
             o.kicked,
             o.time_to_kick_s.unwrap_or(f64::NAN),
             o.bumped,
-            o.fell
+            o.fell,
+            o.ball_in_robot_at_kick
+                .map(|[x, y]| format!("({x:.3}, {y:.3})"))
+                .unwrap_or_default()
         );
         outcomes.push(o);
     }
