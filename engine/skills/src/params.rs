@@ -48,6 +48,20 @@ pub struct SkillParams {
     /// of `walk` for a robot of that type: a type with longer legs walks another gait.
     #[serde(default)]
     pub walk_by_type: BTreeMap<u8, WalkParams>,
+    /// Get-up motions of particular heterogeneous types, in place of `get_up`'s for a robot
+    /// of that type: a sit-up or a push-up that lifts one body does not lift a longer-legged
+    /// one.
+    #[serde(default)]
+    pub get_up_by_type: BTreeMap<u8, GetUpMotions>,
+}
+
+/// A type's own get-up motions; one not given is `get_up`'s.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+pub struct GetUpMotions {
+    #[serde(default)]
+    pub front: Option<Vec<crate::getup::Keyframe>>,
+    #[serde(default)]
+    pub back: Option<Vec<crate::getup::Keyframe>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -94,13 +108,24 @@ impl SkillParams {
         format!("{}.ron", family(&model.name).to_lowercase())
     }
 
-    /// Parse and check a parameter file for `model`; a walk of `walk_by_type` for the
-    /// model's type takes the place of `walk`.
+    /// Parse and check a parameter file for `model`; a walk of `walk_by_type` (a get-up of
+    /// `get_up_by_type`) for the model's type takes the place of `walk` (`get_up`).
     pub fn from_ron(file: &str, text: &str, model: &RobotModel) -> Result<Self, ParamsError> {
         let mut params: SkillParams =
             libero_model::location::parse_ron(file, text).map_err(ParamsError::Syntax)?;
         if let Some(walk) = model.hetero_type.and_then(|t| params.walk_by_type.get(&t)) {
             params.walk = walk.clone();
+        }
+        if let Some(own) = model
+            .hetero_type
+            .and_then(|t| params.get_up_by_type.get(&t))
+        {
+            if let Some(front) = &own.front {
+                params.get_up.front = front.clone();
+            }
+            if let Some(back) = &own.back {
+                params.get_up.back = back.clone();
+            }
         }
         params.validate(model).map_err(|e| match e {
             ParamsError::Invalid { message, .. } => ParamsError::Invalid {
@@ -151,6 +176,19 @@ impl SkillParams {
             }
         }
         self.get_up.validate(model).map_err(invalid)?;
+        for (t, own) in &self.get_up_by_type {
+            for (side, motion) in [("front", &own.front), ("back", &own.back)] {
+                if let Some(frames) = motion {
+                    crate::getup::validate_frames(
+                        &format!("get_up_by_type {t}.{side}"),
+                        frames,
+                        model,
+                        Some(&self.get_up.recover),
+                    )
+                    .map_err(invalid)?;
+                }
+            }
+        }
         self.kick.validate().map_err(invalid)?;
         self.dribble.validate().map_err(invalid)?;
         self.save.validate(model).map_err(invalid)?;
@@ -316,6 +354,44 @@ mod tests {
         let p = SkillParams::builtin(&t1).unwrap();
         let again = SkillParams::from_ron("again.ron", &p.to_ron(), &t1).unwrap();
         assert_eq!(p, again);
+    }
+
+    #[test]
+    fn a_type_with_its_own_get_up_plays_it_and_the_others_play_the_common_one() {
+        let text = include_str!("../params/nao.ron");
+        let shipped = |t: u8| {
+            let nao = RobotModel::builtin(&format!("NAO_type{t}")).unwrap();
+            SkillParams::from_ron("nao.ron", text, &nao).unwrap()
+        };
+        let common = shipped(0);
+        assert!(!common.get_up_by_type.contains_key(&0));
+        for (&t, own) in &common.get_up_by_type {
+            let theirs = shipped(t).get_up;
+            assert!(own.front.is_some() || own.back.is_some(), "type {t}");
+            for (mine, common_one, played) in [
+                (&own.front, &common.get_up.front, &theirs.front),
+                (&own.back, &common.get_up.back, &theirs.back),
+            ] {
+                assert_eq!(played, mine.as_ref().unwrap_or(common_one), "type {t}");
+                if let Some(mine) = mine {
+                    assert_ne!(mine, common_one, "type {t}'s motion is the common one");
+                }
+            }
+        }
+        for t in (0..5).filter(|t| !common.get_up_by_type.contains_key(t)) {
+            assert_eq!(shipped(t).get_up, common.get_up, "type {t}");
+        }
+        // A broken type's get-up is refused by name, whatever the robot's own type.
+        let broken = text.replacen(
+            "get_up_by_type: {",
+            "get_up_by_type: { 9: (back: Some([])),",
+            1,
+        );
+        let nao = RobotModel::builtin("NAO_type0").unwrap();
+        let e = SkillParams::from_ron("nao.ron", &broken, &nao)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("get_up_by_type 9"), "{e}");
     }
 
     #[test]
