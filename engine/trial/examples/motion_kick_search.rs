@@ -3,7 +3,10 @@
 //! `motion_kick_search <params.ron> <motion> <spec|-> <generations>`; `ROBOT` (default
 //! nao_type0). With 0 generations (spec `-`), a probe: the file's motion played as it stands
 //! from each placement, the ball at `AX`, `AY`. Spec lines: `d <frame> <lo> <hi>` (a duration), `J <frame> <joint> <lo> <hi>`,
-//! `ax <lo> <hi>`, `ay <lo> <hi>` (the ball's place in the robot frame before the kick).
+//! `ax <lo> <hi>`, `ay <lo> <hi>` (the ball's place in the robot frame before the kick, from
+//! the torso where it truly stands: the frame `libero bench kick` logs the ball in at the
+//! kick's start; until session 21 it was from the placement, ~3.5 cm behind the torso).
+//! `WALK_S` > 0: the robot walks forward that long and stops before the ball is placed.
 //! Each candidate kicks from `PLACEMENTS` (1) spots, the ball `JITTER` [m] round its place in
 //! each (0: on it); the cost rewards the ball's mean travel and punishes a mean direction more
 //! than 30° off the heading, the directions' spread (`SPREAD_WEIGHT` m per deg, 0.05) and falls.
@@ -46,16 +49,38 @@ fn kick(
         .ball_radius;
     let fallen_below = model.standing_torso_height * 0.5;
     let start = [-5.0, y, 0.0];
-    let at = [start[0] + ball[0], y + ball[1]];
     let monitor = trial.monitor();
     let out: Arc<Mutex<Progress>> = Arc::new(Mutex::new((None, None, false)));
     let shared = Arc::clone(&out);
-    let place = format!("(ball (pos {} {} {ball_z})(vel 0 0 0))", at[0], at[1]);
+    // WALK_S > 0: walk forward that long first and stand (the kick skill starts its motions
+    // after a walk); the ball is placed relative to where the robot truly stands.
+    let walk_s = std::env::var("WALK_S")
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .unwrap_or(0.0);
+    let (place_at, motion_at) = if walk_s > 0.0 {
+        (walk_s + 0.8, walk_s + 1.0)
+    } else {
+        (0.3, 1.0)
+    };
     let mut placed = false;
     let script = move |w: &libero_world::World, t: f64| -> Option<Intent> {
         let mut m = monitor.lock().ok()?;
-        if !placed && t > 0.3 {
-            let _ = m.send(&place);
+        if !placed && t > place_at {
+            // Relative to the torso where it truly stands (it settles ~3.5 cm ahead of a
+            // placement), in the frame the kick bench reports the ball at the kick's start.
+            let torso = w.truth.torso_position?;
+            let [qw, qx, qy, qz] = w.truth.torso_orientation?;
+            let yaw = (2.0 * (qw * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz));
+            let (sin, cos) = yaw.sin_cos();
+            let at = [
+                torso[0] + cos * ball[0] - sin * ball[1],
+                torso[1] + sin * ball[0] + cos * ball[1],
+            ];
+            let _ = m.send(&format!(
+                "(ball (pos {} {} {ball_z})(vel 0 0 0))",
+                at[0], at[1]
+            ));
             placed = true;
         }
         let b = m.snapshot().ball;
@@ -64,15 +89,38 @@ fn kick(
         if w.truth.torso_position.is_some_and(|p| p[2] < fallen_below) {
             o.2 = true;
         }
-        if t < 1.0 {
+        if t < walk_s {
+            return Some(Intent {
+                body: BodyIntent::Walk {
+                    forward_m_s: 0.15,
+                    sideways_m_s: 0.0,
+                    turn_deg_s: 0.0,
+                },
+                ..Default::default()
+            });
+        }
+        if t < motion_at {
             return Some(Intent::default());
         }
         if o.0.is_none() {
             o.0 = b;
+            if std::env::var("SHOW_START").is_ok() {
+                let torso = w.truth.torso_position;
+                eprintln!(
+                    "motion starts: torso {torso:?} pitch {:.1} roll {:.1} joints {:?}",
+                    w.me.pitch_deg,
+                    w.me.roll_deg,
+                    w.body
+                        .joint_angles
+                        .iter()
+                        .map(|a| a.round())
+                        .collect::<Vec<_>>()
+                );
+            }
         }
         o.1 = b;
-        (t < 4.5).then(|| Intent {
-            body: if t < 2.8 {
+        (t < motion_at + 3.5).then(|| Intent {
+            body: if t < motion_at + 1.8 {
                 BodyIntent::Motion { id }
             } else {
                 BodyIntent::Stand
