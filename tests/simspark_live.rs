@@ -173,7 +173,13 @@ fn twenty_two_naos_join_stand_and_rejoin_a_restarted_server() {
 
 /// A SimSpark trial server for a NAO of type 0 and its shipped skill parameters.
 fn type0_trial() -> (libero_trial::Trial, libero_skills::SkillParams) {
-    let model = Arc::new(RobotModel::builtin("nao_type0").unwrap());
+    nao_trial(0)
+}
+
+/// A SimSpark trial server for a NAO of type `t` and its shipped skill parameters (the type's
+/// own walk and get-up motions in place of the common ones).
+fn nao_trial(t: u8) -> (libero_trial::Trial, libero_skills::SkillParams) {
+    let model = Arc::new(RobotModel::builtin(&format!("nao_type{t}")).unwrap());
     let params =
         libero_skills::SkillParams::load(&build::default_skill_params_file(&model), &model)
             .expect("the shipped nao.ron");
@@ -212,16 +218,16 @@ fn a_nao_walks_forward_fast_without_falling_and_knows_where_it_is() {
 /// standing and it falls by `motions.fall_front|fall_back`; the get-up must then come from its
 /// own fall detector. The bar is the (under 4 s). The front motion stood in 2.7-3.1 s in
 /// 20 of 20 (session 13); the back one in 2.9 s in 40 of 40 (session 21; before it, 0 of 20).
-fn gets_up_from(side: libero_skills::getup::Lying) {
+fn gets_up_from(t: u8, side: libero_skills::getup::Lying, placements: usize) {
     use libero_trial::getup_bench;
     let _turn = live_turn();
-    let (mut trial, params) = type0_trial();
-    for placement in getup_bench::varied_placements(side, 3, 5) {
+    let (mut trial, params) = nao_trial(t);
+    for placement in getup_bench::varied_placements(side, placements, 5) {
         let run = getup_bench::get_up(&mut trial, &params, placement, getup_bench::GET_UP_LIMIT_S)
             .unwrap();
         let first = run.recording.samples.first().copied();
         eprintln!(
-            "NAO get-up from the {side:?}, heading {:.0}°: stood at {:?} (lying at the start: {:?})",
+            "NAO type {t} get-up from the {side:?}, heading {:.0}°: stood at {:?} (lying at the start: {:?})",
             placement.start[2], run.stood_at, first
         );
         let lying = first.expect("recorded");
@@ -236,7 +242,7 @@ fn gets_up_from(side: libero_skills::getup::Lying) {
         assert_eq!(lying.posture, expected, "lying the wrong way up");
         assert!(
             run.stood_at.is_some_and(|t| t < 4.0),
-            "stood at {:?} from heading {:.0}°",
+            "type {t} stood at {:?} from heading {:.0}°",
             run.stood_at,
             placement.start[2]
         );
@@ -245,12 +251,23 @@ fn gets_up_from(side: libero_skills::getup::Lying) {
 
 #[test]
 fn a_nao_gets_up_from_its_front() {
-    gets_up_from(libero_skills::getup::Lying::Front);
+    gets_up_from(0, libero_skills::getup::Lying::Front, 3);
 }
 
 #[test]
 fn a_nao_gets_up_from_its_back() {
-    gets_up_from(libero_skills::getup::Lying::Back);
+    gets_up_from(0, libero_skills::getup::Lying::Back, 3);
+}
+
+/// The types with get-up motions of their own (`get_up_by_type`), two placements each: type 1
+/// and type 4 from the back (19/20 and 20/20 on the bench, session 21; 0/20 and 16/20 with the
+/// common motion), type 3 from the front (20/20; 0/20).
+#[test]
+fn naos_of_other_types_get_up_with_their_own_motions() {
+    use libero_skills::getup::Lying;
+    for (t, side) in [(1, Lying::Back), (3, Lying::Front), (4, Lying::Back)] {
+        gets_up_from(t, side, 2);
+    }
 }
 
 /// The NAO's key-frame long kick on the real SimSpark after its own approach, shortened for CI
