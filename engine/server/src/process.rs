@@ -1,12 +1,12 @@
 //! Starting and stopping one server process (rcssservermj or SimSpark rcssserver3d).
 
 use crate::monitor::Monitor;
+use crate::ports::choose_ports;
 use crate::simspark::{ensure_simspark_installed, run_files, RunSettings, SimSparkInstall};
 use crate::venv::{ensure_installed, Installation};
 use crate::ServerError;
 pub use libero_model::ServerKind;
 use std::io::Read;
-use std::net::TcpListener;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
@@ -335,14 +335,9 @@ impl ServerProcess {
 
     /// Whether the process is still running.
     pub fn is_running(&mut self) -> bool {
-        let running = self
-            .child
+        self.child
             .as_mut()
-            .is_some_and(|c| matches!(c.try_wait(), Ok(None)));
-        if !running && self.child.is_some() {
-            self.keep_files = true;
-        }
-        running
+            .is_some_and(|c| matches!(c.try_wait(), Ok(None)))
     }
 
     /// Stop the server: SIGINT (its clean shutdown), then SIGKILL if it lingers. Only the
@@ -412,54 +407,8 @@ fn fresh_dir() -> Result<PathBuf, ServerError> {
 /// Run folders are `$TMPDIR/libero-server-<pid>-<n>`.
 const RUN_DIR_PREFIX: &str = "libero-server";
 
-/// Ports chosen for a server without requested ones: below Linux's ephemeral range
-/// (32768–60999). A free port from the OS (`bind(0)`) lies in that range, and between our
-/// check and the server's own bind any outgoing connection on the machine (agents, other
-/// tests' monitors) may be handed it as its source port: CI once lost a test to that.
-const AUTO_PORTS: std::ops::Range<u16> = 20000..32000;
-
 /// How often `start` chooses new ports when the server finds one taken after all.
 const START_ATTEMPTS: usize = 5;
-
-/// The requested ports if free, else free ones from `AUTO_PORTS`.
-fn choose_ports(agent: Option<u16>, monitor: Option<u16>) -> Result<(u16, u16), ServerError> {
-    use std::hash::{BuildHasher, RandomState};
-    let requested =
-        |p: u16| TcpListener::bind(("127.0.0.1", p)).map_err(|_| ServerError::PortTaken(p));
-    let random = RandomState::new();
-    let mut candidates = (0u32..).map(|k| {
-        let span = u64::from(AUTO_PORTS.end - AUTO_PORTS.start);
-        AUTO_PORTS.start + (random.hash_one(k) % span) as u16
-    });
-    let mut free = |held: Option<u16>| -> Result<TcpListener, ServerError> {
-        candidates
-            .by_ref()
-            .take(500)
-            .filter(|&p| Some(p) != held)
-            .find_map(|p| TcpListener::bind(("127.0.0.1", p)).ok())
-            .ok_or_else(|| {
-                ServerError::Io(
-                    format!("finding a free port in {AUTO_PORTS:?}"),
-                    std::io::Error::from(std::io::ErrorKind::AddrInUse),
-                )
-            })
-    };
-    let port_of = |l: &TcpListener| {
-        l.local_addr()
-            .map(|a| a.port())
-            .map_err(|e| ServerError::Io("port".into(), e))
-    };
-    // Hold both at once so the same port cannot be chosen twice.
-    let a = match agent {
-        Some(p) => requested(p)?,
-        None => free(monitor)?,
-    };
-    let m = match monitor {
-        Some(p) => requested(p)?,
-        None => free(Some(port_of(&a)?))?,
-    };
-    Ok((port_of(&a)?, port_of(&m)?))
-}
 
 /// Make the child `cmd` starts get SIGKILL when the thread that starts it exits (with the
 /// process, if that thread lives as long). Call it from a thread that does.
@@ -522,44 +471,6 @@ mod tests {
 
     const PROBE: &str = "LIBERO_SPAWN_PROBE";
 
-    /// The port tests and the spawn test take turns: a fork in the spawn test copies every open
-    /// socket into the child until its exec closes them, so a port a port test has just let go
-    /// is still bound there for a moment (the requested-port test failed 14 of 60 runs so).
-    static PORT_TESTS: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-    #[test]
-    fn chosen_ports_are_free_distinct_and_outside_the_ephemeral_range() {
-        let _turn = PORT_TESTS.lock().unwrap_or_else(|p| p.into_inner());
-        for _ in 0..20 {
-            let (a, m) = choose_ports(None, None).unwrap();
-            assert_ne!(a, m);
-            assert!(
-                AUTO_PORTS.contains(&a) && AUTO_PORTS.contains(&m),
-                "{a} {m}"
-            );
-            // Free: both can be bound now that the check has let them go.
-            let _a = TcpListener::bind(("127.0.0.1", a)).unwrap();
-            let _m = TcpListener::bind(("127.0.0.1", m)).unwrap();
-        }
-    }
-
-    #[test]
-    fn a_requested_port_that_is_taken_is_named() {
-        let _turn = PORT_TESTS.lock().unwrap_or_else(|p| p.into_inner());
-        let taken = TcpListener::bind(("127.0.0.1", 0)).unwrap();
-        let port = taken.local_addr().unwrap().port();
-        assert!(matches!(
-            choose_ports(Some(port), None),
-            Err(ServerError::PortTaken(p)) if p == port
-        ));
-        // A free requested port is kept; the other is chosen. (Not the port just dropped: in the
-        // ephemeral range any connection on the machine may take it at once, as happened in CI.)
-        let (free, _) = choose_ports(None, None).unwrap();
-        let (a, m) = choose_ports(Some(free), None).unwrap();
-        assert_eq!(a, free);
-        assert!(AUTO_PORTS.contains(&m) && m != free);
-    }
-
     fn alive(pid: i32) -> bool {
         // A zombie still answers kill(0); it has ended for our purposes.
         std::fs::read_to_string(format!("/proc/{pid}/stat"))
@@ -568,7 +479,7 @@ mod tests {
 
     #[test]
     fn a_spawned_program_dies_when_the_process_that_started_it_is_killed() {
-        let _turn = PORT_TESTS.lock().unwrap_or_else(|p| p.into_inner());
+        let _turn = crate::PORT_TESTS.lock().unwrap_or_else(|p| p.into_inner());
         if std::env::var_os(PROBE).is_some() {
             // The child role: start a long sleep from a short-lived thread (as the optimizer's
             // workers do), report its pid and wait to be killed.

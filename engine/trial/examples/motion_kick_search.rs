@@ -69,14 +69,10 @@ fn kick(
         if !placed && t > place_at {
             // Relative to the torso where it truly stands (it settles ~3.5 cm ahead of a
             // placement), in the frame the kick bench reports the ball at the kick's start.
-            let torso = w.truth.torso_position?;
-            let [qw, qx, qy, qz] = w.truth.torso_orientation?;
-            let yaw = (2.0 * (qw * qz + qx * qy)).atan2(1.0 - 2.0 * (qy * qy + qz * qz));
-            let (sin, cos) = yaw.sin_cos();
-            let at = [
-                torso[0] + cos * ball[0] - sin * ball[1],
-                torso[1] + sin * ball[0] + cos * ball[1],
-            ];
+            let ([x, y, _], yaw_deg) = w.truth_pose()?;
+            let at = libero_world::Pose::new(libero_world::Global::new(x, y), yaw_deg)
+                .global(libero_world::Robot::new(ball[0], ball[1]))
+                .to_array();
             let _ = m.send(&format!(
                 "(ball (pos {} {} {ball_z})(vel 0 0 0))",
                 at[0], at[1]

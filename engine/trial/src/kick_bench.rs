@@ -11,7 +11,7 @@ use crate::kick_contact::{Contact, ContactTracer};
 use libero_skills::kick::KickApproach;
 use libero_skills::{BodyIntent, HeadIntent, Intent, KickState, SkillParams};
 use libero_world::geometry::wrap_deg;
-use libero_world::World;
+use libero_world::{Global, Pose, World};
 use std::sync::{Arc, Mutex};
 
 /// Where one kick starts and what it asks for.
@@ -251,15 +251,14 @@ pub fn kick_once(
         if kick == KickState::Kicking && p.kick_started_at.is_none() {
             p.kick_started_at = Some(since_request);
             p.ball_at_kick = truth_ball;
-            p.ball_in_robot_at_kick = truth_ball
-                .zip(world.truth.torso_position)
-                .zip(world.truth.torso_orientation)
-                .map(|((b, torso), [w, x, y, z])| {
-                    let yaw = (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z));
-                    let (dx, dy) = (b[0] - torso[0], b[1] - torso[1]);
-                    let (sin, cos) = yaw.sin_cos();
-                    [cos * dx + sin * dy, -sin * dx + cos * dy]
-                });
+            p.ball_in_robot_at_kick =
+                truth_ball
+                    .zip(world.truth_pose())
+                    .map(|(b, ([x, y, _], yaw_deg))| {
+                        Pose::new(Global::new(x, y), yaw_deg)
+                            .robot(Global::new(b[0], b[1]))
+                            .to_array()
+                    });
         }
         if kick == KickState::Kicking || (kick == KickState::Done && p.contact.is_none()) {
             if let Some(tracer) = tracer.as_mut() {
