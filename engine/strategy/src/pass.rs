@@ -46,6 +46,11 @@ pub struct PassParams {
     /// nearest to where its pass would stop moves to the receiving spot beside that point (0:
     /// never; the receiver then walks there only once the ball rolls).
     pub anticipate_within_m: f64,
+    /// Within this of the ball [m] on the kick's approach, the direction held is kept whatever
+    /// another is worth, while it is worth anything: teammates walking across the paths made
+    /// the choice step 10 deg at a time, and each step cost the robot at the ball another
+    /// alignment (NOTES.md, session 22). 0: never.
+    pub commit_within_m: f64,
     /// The receiving spot lies this far beside the pass's stop point, off its path [m].
     pub receive_beside_m: f64,
 }
@@ -64,6 +69,7 @@ impl Default for PassParams {
             race_weight: 1.0,
             hysteresis: 0.1,
             anticipate_within_m: 0.0,
+            commit_within_m: 0.0,
             receive_beside_m: 1.0,
         }
     }
@@ -74,6 +80,17 @@ impl Default for PassParams {
 pub struct PassField {
     pub teammates: arrayvec::ArrayVec<Own, MAX_DEFENDERS>,
     pub opponents: arrayvec::ArrayVec<Own, MAX_DEFENDERS>,
+}
+
+/// How firmly the direction chosen before is held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Commitment {
+    /// Not kicking yet: against `hysteresis` only.
+    Free,
+    /// On the kick's approach: also while worth half the best.
+    Approach,
+    /// On the approach within `commit_within_m` of the ball: while worth anything.
+    AtBall,
 }
 
 /// A pass: where the ball should stop, and what it is worth.
@@ -186,8 +203,8 @@ impl PassParams {
     }
 
     /// The best direction; `kept` (the direction chosen before) stays unless another is
-    /// `hysteresis` better, or, `committed` (the kick is under way), while it is worth at
-    /// least half the best.
+    /// `hysteresis` better, or, `commitment` `Approach` (the kick is under way), while it is
+    /// worth at least half the best, or, `AtBall`, while it is worth anything.
     pub fn best(
         &self,
         ball: Own,
@@ -195,7 +212,7 @@ impl PassParams {
         kick: &KickSpread,
         players: &PassField,
         kept: Option<f64>,
-        committed: bool,
+        commitment: Commitment,
     ) -> PassChoice {
         let choice = |direction: f64| {
             let utility = self.utility(ball, direction, field, kick, players);
@@ -218,7 +235,9 @@ impl PassParams {
             Some(old)
                 if old.utility > 0.0
                     && (old.utility + self.hysteresis >= best.utility
-                        || committed && 2.0 * old.utility >= best.utility) =>
+                        || commitment == Commitment::Approach
+                            && 2.0 * old.utility >= best.utility
+                        || commitment == Commitment::AtBall) =>
             {
                 old
             }

@@ -184,6 +184,7 @@ pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
     let race_weight = num("race_weight", 0.0, 10.0, d.race_weight);
     let hysteresis = num("hysteresis", 0.0, 1.0, d.hysteresis);
     let anticipate_within_m = num("anticipate_within_m", 0.0, 20.0, d.anticipate_within_m);
+    let commit_within_m = num("commit_within_m", 0.0, 5.0, d.commit_within_m);
     let receive_beside_m = num("receive_beside_m", 0.0, 5.0, d.receive_beside_m);
     fields.finish(
         decoder,
@@ -199,6 +200,7 @@ pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
             "race_weight",
             "hysteresis",
             "anticipate_within_m",
+            "commit_within_m",
             "receive_beside_m",
         ],
     );
@@ -214,6 +216,7 @@ pub fn parse_pass(decoder: &mut Decoder, node: &Node) -> Option<PassParams> {
         race_weight: race_weight?,
         hysteresis: hysteresis?,
         anticipate_within_m: anticipate_within_m?,
+        commit_within_m: commit_within_m?,
         receive_beside_m: receive_beside_m?,
     })
 }

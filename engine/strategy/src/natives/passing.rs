@@ -3,7 +3,7 @@
 
 use super::host::value;
 use super::{AgentHost, Native, Ports};
-use crate::pass::{PassChoice, PassField};
+use crate::pass::{Commitment, PassChoice, PassField};
 use crate::shot::MAX_DEFENDERS;
 use libero_behavior::{NodeSpec, Value, ValueType};
 use libero_world::Relation;
@@ -83,8 +83,15 @@ impl AgentHost<'_> {
                 &self.pass_field(),
                 kept.map(|k| k.direction),
                 // Round the ball on the kick's approach a swinging target made the robot
-                // circle it for 20 s (NOTES.md, session 16): the direction is held then.
-                kicking,
+                // circle it for 20 s (NOTES.md, session 16): the direction is held then, and
+                // at the ball for good.
+                if !kicking {
+                    Commitment::Free
+                } else if self.me().distance(ball) <= params.commit_within_m {
+                    Commitment::AtBall
+                } else {
+                    Commitment::Approach
+                },
             );
             self.memory.pass_kept.set(Some(super::host::KeptPass {
                 direction: choice.direction,

@@ -176,7 +176,7 @@ impl AgentHost<'_> {
             &self.skills.kick_spread,
             &players,
             kept.map(|k| k.direction),
-            false,
+            crate::pass::Commitment::Free,
         );
         self.memory.pass_expected.set(Some(super::host::KeptPass {
             direction: pass.direction,

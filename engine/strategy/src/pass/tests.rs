@@ -118,7 +118,7 @@ fn a_ball_that_would_stop_off_the_field_is_worth_nothing() {
         &spread(3.0),
         &players(&[], &[]),
         None,
-        false,
+        Commitment::Free,
     );
     assert_eq!(best.target, Own::new(27.5, 0.0));
 }
@@ -134,7 +134,14 @@ fn an_opponent_right_in_front_of_the_ball_turns_the_kick_aside() {
     // Lateral spread at 1.8 m: 1.8 tan 3 deg = 0.094 m; the ball passes within 0.5 m of it
     // with probability ~1: the straight kick is worth ~0.
     assert!(straight < 1e-3, "{straight}");
-    let best = p.best(ball, &field(), &spread(3.0), &field_players, None, false);
+    let best = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &field_players,
+        None,
+        Commitment::Free,
+    );
     // Beyond the directions it blocks: atan(0.5 / 1.8) = 15.5 deg either side. At 20 deg it
     // still stops 9.5 % of kicks (lateral offset 0.616 m, spread 0.089 m at 1.69 m along: P(z
     // in [-12.6, -1.31])); the stop point (10.34, 3.76) is 17.57 m from the goal (progress
@@ -192,19 +199,95 @@ fn the_direction_kept_holds_until_another_is_clearly_better() {
     // Straight on is best (0.524); 10 deg off is worth (0.5 (1 + 0.975) + 0.047) / 2 = 0.517:
     // within the hysteresis, so it is kept.
     let kept = 10f64.to_radians();
-    let choice = p.best(ball, &field(), &spread(3.0), &empty, Some(kept), false);
+    let choice = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &empty,
+        Some(kept),
+        Commitment::Free,
+    );
     assert_eq!(choice.direction, kept);
     // 60 deg off (progress 0.32: 0.354) is far worse: the best direction takes over.
     let off = 60f64.to_radians();
-    let choice = p.best(ball, &field(), &spread(3.0), &empty, Some(off), false);
+    let choice = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &empty,
+        Some(off),
+        Commitment::Free,
+    );
     assert!(choice.direction.abs() < 1e-9, "{choice:?}");
     // Unless the kick is under way: then it is held while it is worth half the best ...
-    let choice = p.best(ball, &field(), &spread(3.0), &empty, Some(off), true);
+    let choice = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &empty,
+        Some(off),
+        Commitment::Approach,
+    );
     assert_eq!(choice.direction, off);
     // ... and dropped when it is not (an opponent stepped into its path).
     let blocked = players(&[], &[(1.0, 1.732)]);
-    let choice = p.best(ball, &field(), &spread(3.0), &blocked, Some(off), true);
+    let choice = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &blocked,
+        Some(off),
+        Commitment::Approach,
+    );
     assert!(choice.direction.abs() < 1e-9, "{choice:?}");
+}
+
+#[test]
+fn at_the_ball_the_direction_held_stays_while_it_is_worth_anything() {
+    let p = PassParams::default();
+    let ball = Own::new(0.0, 0.0);
+    let off = 60f64.to_radians();
+    // A teammate walking across the 60 deg path 2 m out: that direction is worth far less
+    // than half the best, so on the approach another takes over ...
+    let crossing = players(&[(1.0, 1.732)], &[]);
+    let worth = p.utility(ball, off, &field(), &spread(3.0), &crossing);
+    let choice = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &crossing,
+        Some(off),
+        Commitment::Approach,
+    );
+    assert!(2.0 * worth < choice.utility, "{worth} {choice:?}");
+    assert!(choice.direction != off, "{choice:?}");
+    // ... but at the ball the kick goes where it was set up (the teammate walks on).
+    assert!(worth > 0.0, "{worth}");
+    let choice = p.best(
+        ball,
+        &field(),
+        &spread(3.0),
+        &crossing,
+        Some(off),
+        Commitment::AtBall,
+    );
+    assert_eq!(choice.direction, off);
+    // A direction worth nothing (its ball would stop off the field) is dropped even then.
+    let corner = Own::new(20.0, 17.0);
+    let out = 90f64.to_radians();
+    assert_eq!(
+        p.utility(corner, out, &field(), &spread(3.0), &crossing),
+        0.0
+    );
+    let choice = p.best(
+        corner,
+        &field(),
+        &spread(3.0),
+        &crossing,
+        Some(out),
+        Commitment::AtBall,
+    );
+    assert!(choice.direction != out, "{choice:?}");
 }
 
 #[test]
