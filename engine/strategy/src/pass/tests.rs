@@ -191,6 +191,18 @@ fn the_race_for_the_stop_point_favours_a_free_teammate() {
     );
 }
 
+/// The choice from `ball` with the direction `kept` held as firmly as `commitment` says
+/// (the shipped spread of 3 deg).
+fn held(
+    p: &PassParams,
+    ball: Own,
+    players: &PassField,
+    kept: Option<f64>,
+    commitment: Commitment,
+) -> PassChoice {
+    p.best(ball, &field(), &spread(3.0), players, kept, commitment)
+}
+
 #[test]
 fn the_direction_kept_holds_until_another_is_clearly_better() {
     let p = PassParams::default();
@@ -199,46 +211,18 @@ fn the_direction_kept_holds_until_another_is_clearly_better() {
     // Straight on is best (0.524); 10 deg off is worth (0.5 (1 + 0.975) + 0.047) / 2 = 0.517:
     // within the hysteresis, so it is kept.
     let kept = 10f64.to_radians();
-    let choice = p.best(
-        ball,
-        &field(),
-        &spread(3.0),
-        &empty,
-        Some(kept),
-        Commitment::Free,
-    );
+    let choice = held(&p, ball, &empty, Some(kept), Commitment::Free);
     assert_eq!(choice.direction, kept);
     // 60 deg off (progress 0.32: 0.354) is far worse: the best direction takes over.
     let off = 60f64.to_radians();
-    let choice = p.best(
-        ball,
-        &field(),
-        &spread(3.0),
-        &empty,
-        Some(off),
-        Commitment::Free,
-    );
+    let choice = held(&p, ball, &empty, Some(off), Commitment::Free);
     assert!(choice.direction.abs() < 1e-9, "{choice:?}");
     // Unless the kick is under way: then it is held while it is worth half the best ...
-    let choice = p.best(
-        ball,
-        &field(),
-        &spread(3.0),
-        &empty,
-        Some(off),
-        Commitment::Approach,
-    );
+    let choice = held(&p, ball, &empty, Some(off), Commitment::Approach);
     assert_eq!(choice.direction, off);
     // ... and dropped when it is not (an opponent stepped into its path).
     let blocked = players(&[], &[(1.0, 1.732)]);
-    let choice = p.best(
-        ball,
-        &field(),
-        &spread(3.0),
-        &blocked,
-        Some(off),
-        Commitment::Approach,
-    );
+    let choice = held(&p, ball, &blocked, Some(off), Commitment::Approach);
     assert!(choice.direction.abs() < 1e-9, "{choice:?}");
 }
 
@@ -251,26 +235,12 @@ fn at_the_ball_the_direction_held_stays_while_it_is_worth_anything() {
     // than half the best, so on the approach another takes over ...
     let crossing = players(&[(1.0, 1.732)], &[]);
     let worth = p.utility(ball, off, &field(), &spread(3.0), &crossing);
-    let choice = p.best(
-        ball,
-        &field(),
-        &spread(3.0),
-        &crossing,
-        Some(off),
-        Commitment::Approach,
-    );
+    let choice = held(&p, ball, &crossing, Some(off), Commitment::Approach);
     assert!(2.0 * worth < choice.utility, "{worth} {choice:?}");
     assert!(choice.direction != off, "{choice:?}");
     // ... but at the ball the kick goes where it was set up (the teammate walks on).
     assert!(worth > 0.0, "{worth}");
-    let choice = p.best(
-        ball,
-        &field(),
-        &spread(3.0),
-        &crossing,
-        Some(off),
-        Commitment::AtBall,
-    );
+    let choice = held(&p, ball, &crossing, Some(off), Commitment::AtBall);
     assert_eq!(choice.direction, off);
     // A direction worth nothing (its ball would stop off the field) is dropped even then.
     let corner = Own::new(20.0, 17.0);
@@ -279,14 +249,7 @@ fn at_the_ball_the_direction_held_stays_while_it_is_worth_anything() {
         p.utility(corner, out, &field(), &spread(3.0), &crossing),
         0.0
     );
-    let choice = p.best(
-        corner,
-        &field(),
-        &spread(3.0),
-        &crossing,
-        Some(out),
-        Commitment::AtBall,
-    );
+    let choice = held(&p, corner, &crossing, Some(out), Commitment::AtBall);
     assert!(choice.direction != out, "{choice:?}");
 }
 
