@@ -235,9 +235,11 @@ impl PassParams {
             Some(old)
                 if old.utility > 0.0
                     && (old.utility + self.hysteresis >= best.utility
-                        || commitment == Commitment::Approach
-                            && 2.0 * old.utility >= best.utility
-                        || commitment == Commitment::AtBall) =>
+                        || match commitment {
+                            Commitment::Free => false,
+                            Commitment::Approach => 2.0 * old.utility >= best.utility,
+                            Commitment::AtBall => true,
+                        }) =>
             {
                 old
             }

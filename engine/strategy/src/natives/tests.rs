@@ -1,6 +1,24 @@
 use super::*;
 use std::collections::HashSet;
 
+/// The repository's behavior and formation files, loaded as a team would load them.
+fn shipped_library() -> libero_behavior::Library {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap()
+}
+
+/// The skills' status with the T1's measured long kick spread (`t1.ron` `kick.measured`).
+fn t1_kick_skills() -> libero_skills::SkillStatus {
+    libero_skills::SkillStatus {
+        kick_spread: libero_skills::kick::KickSpread {
+            direction_sd_deg: 2.6,
+            distance_m: 11.1,
+            distance_sd_m: 1.3,
+        },
+        ..libero_skills::SkillStatus::default()
+    }
+}
+
 /// One call of the action `name` with `args` on the shipped files, with the skills reporting
 /// `skills`: its status and the intent it wrote.
 fn run_action(
@@ -9,8 +27,7 @@ fn run_action(
     args: &[Value],
     skills: libero_skills::SkillStatus,
 ) -> (Status, libero_skills::Intent) {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let library = shipped_library();
     let natives = Natives::new();
     let mut memory = PlayerMemory::default();
     let mut intent = libero_skills::Intent::default();
@@ -88,8 +105,7 @@ fn run_query(
     args: &[Value],
     memory: &mut PlayerMemory,
 ) -> Value {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let library = shipped_library();
     let natives = Natives::new();
     let skills = libero_skills::SkillStatus::default();
     let mut intent = libero_skills::Intent::default();

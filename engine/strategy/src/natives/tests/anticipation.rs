@@ -5,22 +5,14 @@ use libero_world::{PlayMode, Relation, Side, World};
 /// Our `formation_position` with the shipped files but `anticipate_within_m`, the T1's
 /// measured long kick.
 fn target(world: &World, anticipate_within_m: f64) -> Vec2 {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let library = shipped_library();
     let mut strategy = crate::strategy_of(&library).clone();
     strategy.pass = Some(PassParams {
         anticipate_within_m,
         ..strategy.pass.unwrap()
     });
     let natives = Natives::new();
-    let skills = libero_skills::SkillStatus {
-        kick_spread: libero_skills::kick::KickSpread {
-            direction_sd_deg: 2.6,
-            distance_m: 11.1,
-            distance_sd_m: 1.3,
-        },
-        ..libero_skills::SkillStatus::default()
-    };
+    let skills = t1_kick_skills();
     let mut memory = PlayerMemory::default();
     let mut intent = libero_skills::Intent::default();
     let host = AgentHost::new(

@@ -1,13 +1,13 @@
+use super::{shipped_library, t1_kick_skills};
 use crate::shot::ShotParams;
 use crate::{strategy_of, AgentHost, Natives, PlayerMemory};
 use libero_behavior::{Args, Host, NativeKind};
-use libero_skills::{Intent, SkillStatus};
+use libero_skills::Intent;
 use libero_world::{Side, World};
 
 /// One `ShotIsGood` with the shipped files but `threshold`; the memory carries over.
 fn good(world: &World, threshold: f64, memory: &mut PlayerMemory) -> bool {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let library = shipped_library();
     let mut strategy = strategy_of(&library).clone();
     strategy.shot = Some(ShotParams {
         threshold,
@@ -15,14 +15,7 @@ fn good(world: &World, threshold: f64, memory: &mut PlayerMemory) -> bool {
         ..strategy.shot.unwrap()
     });
     let natives = Natives::new();
-    let skills = SkillStatus {
-        kick_spread: libero_skills::kick::KickSpread {
-            direction_sd_deg: 2.6,
-            distance_m: 11.1,
-            distance_sd_m: 1.3,
-        },
-        ..SkillStatus::default()
-    };
+    let skills = t1_kick_skills();
     let mut intent = Intent::default();
     let host = AgentHost::new(world, &strategy, &natives, &skills, memory, &mut intent);
     let id = crate::vocabulary()

@@ -103,8 +103,7 @@ fn kicked_ball_at(kicker: Relation, speed: f64, me: [f64; 2]) -> World {
 }
 
 fn meeting(world: &World) -> (f64, libero_world::Own) {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let library = crate::load(&[root.join("behaviors"), root.join("formations")]).unwrap();
+    let library = shipped_library();
     let natives = Natives::new();
     let skills = libero_skills::SkillStatus::default();
     let mut intent = libero_skills::Intent::default();
