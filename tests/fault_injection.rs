@@ -231,3 +231,73 @@ fn a_refused_agent_backs_off_and_stops_with_a_clear_error() {
     }
     assert!(gaps[0] >= 0.09, "{gaps:?}");
 }
+
+/// Stands until its `at`-th cycle, which panics.
+struct PanicsAt {
+    at: u32,
+    cycles: u32,
+}
+
+impl libero_agent::Decider for PanicsAt {
+    fn decide(&mut self, _world: &libero_world::World) -> libero_skills::Intent {
+        self.cycles += 1;
+        assert!(
+            self.cycles < self.at,
+            "injected fault in cycle {}",
+            self.cycles
+        );
+        libero_skills::Intent::default()
+    }
+}
+
+#[test]
+fn an_agent_whose_cycle_panics_leaves_alone_and_its_teammates_on_the_same_thread_play_on() {
+    init_logging();
+    let (l, port) = listener();
+    let model = t1();
+    let mut players: Vec<_> = [1, 3]
+        .into_iter()
+        .map(|unum| build::standing_player(&model, "Probe", unum).unwrap())
+        .collect();
+    let faulty = Box::new(PanicsAt { at: 3, cycles: 0 });
+    let source = libero_agent::SkillSource::Builtin;
+    players.insert(
+        1,
+        build::player_with(&model, "Probe", 2, faulty, &source).unwrap(),
+    );
+    // The server: each agent gets a percept as it joins (the team joins one at a time),
+    // then every agent one percept per round.
+    let server = std::thread::spawn(move || {
+        let mut agents: Vec<TcpStream> = Vec::new();
+        for unum in 1..=3 {
+            let (mut s, _) = l.accept().unwrap();
+            let init = read_reply(&mut s).expect("init");
+            assert_eq!(init, format!("(init T1 Probe {unum})"));
+            s.write_all(&frame(GOOD.as_bytes())).unwrap();
+            read_reply(&mut s).expect("the first reply");
+            agents.push(s);
+        }
+        let mut replies = [1u32; 3];
+        for _ in 0..8 {
+            for (i, s) in agents.iter_mut().enumerate() {
+                if s.write_all(&frame(GOOD.as_bytes())).is_ok() && read_reply(s).is_some() {
+                    replies[i] += 1;
+                }
+            }
+        }
+        replies
+    });
+    let mut config = AgentConfig::new("127.0.0.1", port);
+    config.greeting_delay = Duration::ZERO;
+    let team = libero_agent::Team::start(&config, players, Arc::new(AtomicBool::new(false)));
+    let replies = server.join().unwrap();
+    assert_eq!(replies[0], 9, "agent 1 answered every percept: {replies:?}");
+    assert_eq!(replies[2], 9, "agent 3 answered every percept: {replies:?}");
+    assert_eq!(
+        replies[1], 2,
+        "agent 2 answered until its cycle panicked: {replies:?}"
+    );
+    let finished = team.finished();
+    assert_eq!(finished, vec![(1, false), (2, true), (3, false)]);
+    assert_eq!(team.stop_reporting_panics(), vec![2]);
+}

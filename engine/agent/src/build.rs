@@ -49,7 +49,7 @@ pub fn standing_player(
 }
 
 /// A player with skill parameters from `skills` and `decider`.
-fn player_with(
+pub fn player_with(
     model: &Arc<RobotModel>,
     team: &str,
     unum: u32,

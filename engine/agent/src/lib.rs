@@ -4,8 +4,9 @@
 //! bytes → frame → S-expression → Percept → World → decide → Intent → Skills → JointTargets → actions → bytes
 //! ```
 //! [`player`] is that pipeline without any I/O (so it is tested on recorded messages);
-//! [`connection`] and [`run`] put it on a socket with reconnects; [`team`] hosts several
-//! agents in one process.
+//! [`seats`] puts agents on sockets with reconnects, answering several from one thread;
+//! [`run`] runs one, [`team`] hosts a team in one process; [`connection`] is a plain
+//! blocking connection for tools.
 
 pub mod actuate;
 pub mod build;
@@ -13,6 +14,7 @@ pub mod connection;
 pub mod decide;
 pub mod player;
 pub mod run;
+pub mod seats;
 pub mod skill_source;
 pub mod stats;
 pub mod team;

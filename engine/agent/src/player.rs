@@ -120,8 +120,12 @@ impl Player {
     /// Keep the next `limit` percept payloads in the stats ([`AgentStats::take_recording`]).
     /// A fresh player built the same way and fed them through [`Player::on_percept`] replays
     /// this one's cycles offline (benchmarks, allocation counts, debugging a decision).
+    /// The room is taken at once, so recording does not allocate in the cycles it records.
     pub fn record_frames(&mut self, limit: usize) {
         self.to_record = limit;
+        if let Ok(mut recorded) = self.stats.recorded.lock() {
+            recorded.reserve(limit);
+        }
     }
 
     fn record(&mut self, payload: &[u8]) {
@@ -129,8 +133,14 @@ impl Player {
             return;
         }
         self.to_record -= 1;
-        if let Ok(mut recorded) = self.stats.recorded.lock() {
-            recorded.push(payload.to_vec());
+        let kept = self
+            .stats
+            .recorded
+            .lock()
+            .is_ok_and(|mut recorded| recorded.push(payload));
+        if !kept {
+            // Out of the room reserved: the recording ends here.
+            self.to_record = 0;
         }
     }
 

@@ -1,13 +1,10 @@
-//! Running one agent on a socket until shutdown, reconnecting when the server goes away.
+//! How an agent connects, and running one on this thread until shutdown.
 
-use crate::connection::Connection;
 use crate::player::Player;
-use crate::stats::AgentStats;
-use libero_protocol::{is_timeout, FrameError};
-use std::io::Write;
+use crate::seats::{run_seats, SeatEnd};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::sync::Arc;
+use std::time::Duration;
 
 /// Where and how one agent connects.
 #[derive(Debug, Clone)]
@@ -40,9 +37,24 @@ pub struct AgentConfig {
     pub join_gate: Option<Arc<JoinGate>>,
 }
 
-/// Lets the agents of a team join the server one at a time.
+/// Lets the agents of a team join the server one at a time: held by one agent from
+/// connecting to its first percept.
 #[derive(Debug, Default)]
-pub struct JoinGate(Mutex<()>);
+pub struct JoinGate(AtomicBool);
+
+impl JoinGate {
+    /// Take the gate if nobody holds it.
+    pub fn try_enter(&self) -> bool {
+        self.0
+            .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+            .is_ok()
+    }
+
+    /// Give the gate back (only its holder does).
+    pub fn leave(&self) {
+        self.0.store(false, Ordering::Release);
+    }
+}
 
 impl AgentConfig {
     pub fn new(host: &str, port: u16) -> Self {
@@ -78,161 +90,17 @@ pub enum AgentError {
     },
 }
 
-/// Longest wait between refused joins.
-const REFUSAL_BACKOFF_MAX: Duration = Duration::from_secs(30);
-/// A silent server is reported once it has been quiet this long.
-const SILENCE_REPORTED_AFTER: Duration = Duration::from_secs(10);
-
-const BACKOFF_START: Duration = Duration::from_millis(50);
-const BACKOFF_MAX: Duration = Duration::from_millis(200);
-
-/// Run `player` until `shutdown` is set. Every percept is answered at once with exactly one
-/// frame. Lost connections are retried with a short backoff, so agents are back within a
-/// fraction of a second of the server.
+/// Run `player` until `shutdown` is set (see [`run_seats`]): a team of one on this thread.
+/// A panic in its cycle is raised again here.
 pub fn run_agent(
     config: &AgentConfig,
     player: &mut Player,
     shutdown: &AtomicBool,
 ) -> Result<(), AgentError> {
-    let unum = player.world.game.unum;
-    let mut backoff = BACKOFF_START;
-    let mut failures = 0u32;
-    let mut refusals = 0u32;
-    let mut out = Vec::with_capacity(4096);
-    while !shutdown.load(Ordering::Relaxed) {
-        // Held from connecting to the first percept (or the end of the attempt).
-        let mut gate = config
-            .join_gate
-            .as_ref()
-            .map(|g| g.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner()));
-        // The greeting is ready before the connection exists: a sync-mode SimSpark waits for
-        // a connection without a body after 5 of its cycles (a few ms in fast mode), and the
-        // `scene` that would give it one is then never read.
-        player.reset_connection();
-        let hello = match player.greeting() {
-            Ok(hello) => hello,
-            Err(e) => {
-                log::error!("agent {unum}: cannot greet the server: {e}");
-                return Ok(());
-            }
-        };
-        let mut conn = match Connection::open(&config.host, config.port) {
-            Ok(c) => c,
-            Err(e) => {
-                drop(gate);
-                failures += 1;
-                if config
-                    .max_connect_failures
-                    .is_some_and(|max| failures >= max)
-                {
-                    return Err(AgentError::Unreachable {
-                        host: config.host.clone(),
-                        port: config.port,
-                        attempts: failures,
-                        last: e,
-                    });
-                }
-                if failures == 1 {
-                    log::warn!(
-                        "agent {unum}: cannot connect to {}:{} ({e}); retrying",
-                        config.host,
-                        config.port
-                    );
-                }
-                sleep_unless_shutdown(backoff, shutdown);
-                backoff = (backoff * 2).min(BACKOFF_MAX);
-                continue;
-            }
-        };
-        failures = 0;
-        if player.model.server == libero_model::ServerKind::RcssMj {
-            sleep_unless_shutdown(config.greeting_delay, shutdown);
-        }
-        if let Err(e) = conn.send(&hello) {
-            log::warn!("agent {unum}: greeting not sent: {e}");
-            continue;
-        }
-        AgentStats::bump(&player.stats().connections);
-        let mut heard_at = Instant::now();
-        let mut answered = 0u64;
-        let mut silence_reported = false;
-        let reason = loop {
-            if shutdown.load(Ordering::Relaxed) {
-                return Ok(());
-            }
-            let (reader, writer) = conn.parts();
-            match reader.read_frame() {
-                Ok(frame) => {
-                    heard_at = Instant::now();
-                    if silence_reported {
-                        log::info!("agent {unum}: the server speaks again");
-                        silence_reported = false;
-                    }
-                    out.clear();
-                    player.on_percept(frame, &mut out);
-                    if let Err(e) = writer.write_all(&out) {
-                        break format!("send failed: {e}");
-                    }
-                    answered += 1;
-                    // In: the next agent may join.
-                    gate = None;
-                    backoff = BACKOFF_START;
-                    refusals = 0;
-                }
-                Err(e) if is_timeout(&e) => {
-                    let silent = heard_at.elapsed();
-                    let limit = if answered == 0 {
-                        config.first_percept_timeout
-                    } else {
-                        config.silence_timeout
-                    };
-                    if silent > limit {
-                        break format!("server silent for {limit:.0?}");
-                    }
-                    if answered > 0 && !silence_reported && silent > SILENCE_REPORTED_AFTER {
-                        log::warn!(
-                            "agent {unum}: server silent for {SILENCE_REPORTED_AFTER:.0?}; keeping the connection open"
-                        );
-                        silence_reported = true;
-                    }
-                }
-                Err(FrameError::Closed) if answered == 0 => {
-                    gate = None;
-                    refusals += 1;
-                    if refusals >= config.max_refusals {
-                        return Err(AgentError::Refused {
-                            host: config.host.clone(),
-                            port: config.port,
-                            attempts: refusals,
-                        });
-                    }
-                    let wait = config
-                        .refusal_backoff
-                        .saturating_mul(1 << (refusals - 1).min(16))
-                        .min(REFUSAL_BACKOFF_MAX);
-                    log::warn!(
-                        "agent {unum}: the server closed the connection before the first percept ({refusals} of {} refusals); trying again in {wait:.0?}",
-                        config.max_refusals
-                    );
-                    sleep_unless_shutdown(wait, shutdown);
-                    break String::new();
-                }
-                Err(e) => break e.to_string(),
-            }
-        };
-        drop(gate);
-        if !reason.is_empty() {
-            log::warn!("agent {unum}: connection lost ({reason}); reconnecting");
-            sleep_unless_shutdown(backoff, shutdown);
-            backoff = (backoff * 2).min(BACKOFF_MAX);
-        }
-    }
-    Ok(())
-}
-
-fn sleep_unless_shutdown(d: Duration, shutdown: &AtomicBool) {
-    let end = Instant::now() + d;
-    while Instant::now() < end && !shutdown.load(Ordering::Relaxed) {
-        std::thread::sleep(Duration::from_millis(10).min(d));
+    let ends = run_seats(config, std::slice::from_mut(player), shutdown);
+    match ends.into_iter().next() {
+        Some(SeatEnd::Failed(e)) => Err(e),
+        Some(SeatEnd::Panicked(payload)) => std::panic::resume_unwind(payload),
+        Some(SeatEnd::Stopped) | None => Ok(()),
     }
 }

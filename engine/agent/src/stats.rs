@@ -32,8 +32,57 @@ pub struct AgentStats {
     pub in_motion: std::sync::atomic::AtomicBool,
     /// Where the cycles' time went, stage by stage (wall time inside `Player::on_percept`).
     pub stages: StageTimes,
+    /// Whether the agent has ended for good (stopped, gave up, or its cycle panicked).
+    pub ended: std::sync::atomic::AtomicBool,
+    /// Whether the agent's cycle panicked (it then left the match; its teammates play on).
+    pub panicked: std::sync::atomic::AtomicBool,
     /// The percept payloads recorded since the player was asked to (`Player::record_frames`).
-    pub recorded: Mutex<Vec<Vec<u8>>>,
+    pub recorded: Mutex<Recording>,
+}
+
+/// Percept payloads end to end in room reserved up front.
+#[derive(Debug, Default)]
+pub struct Recording {
+    bytes: Vec<u8>,
+    ends: Vec<usize>,
+}
+
+/// Room reserved per frame to record: T1 percepts are 1-8 kB, most near 3 kB.
+const RECORDED_BYTES_PER_FRAME: usize = 8 * 1024;
+
+impl Recording {
+    pub(crate) fn reserve(&mut self, frames: usize) {
+        self.ends.reserve(frames);
+        self.bytes.reserve(frames * RECORDED_BYTES_PER_FRAME);
+    }
+
+    /// Keep `payload` if it fits the room reserved (`false`: it does not).
+    pub(crate) fn push(&mut self, payload: &[u8]) -> bool {
+        let fits = self.ends.len() < self.ends.capacity()
+            && self.bytes.len() + payload.len() <= self.bytes.capacity();
+        if fits {
+            self.bytes.extend_from_slice(payload);
+            self.ends.push(self.bytes.len());
+        }
+        fits
+    }
+
+    /// The payloads kept so far, one `Vec` each; the recording then starts over.
+    fn take(&mut self) -> Vec<Vec<u8>> {
+        let mut start = 0;
+        let frames = self
+            .ends
+            .iter()
+            .map(|&end| {
+                let frame = self.bytes[start..end].to_vec();
+                start = end;
+                frame
+            })
+            .collect();
+        self.bytes.clear();
+        self.ends.clear();
+        frames
+    }
 }
 
 /// Time spent in each stage of the per-cycle pipe [ns], summed over the cycles.
@@ -102,6 +151,20 @@ impl AgentStats {
         counter.fetch_add(1, Ordering::Relaxed);
     }
 
+    pub(crate) fn set_flag(flag: &std::sync::atomic::AtomicBool, value: bool) {
+        flag.store(value, Ordering::Relaxed);
+    }
+
+    /// See [`AgentStats::ended`].
+    pub fn has_ended(&self) -> bool {
+        self.ended.load(Ordering::Relaxed)
+    }
+
+    /// See [`AgentStats::panicked`].
+    pub fn has_panicked(&self) -> bool {
+        self.panicked.load(Ordering::Relaxed)
+    }
+
     pub(crate) fn add(counter: &AtomicU64, amount: u64) {
         counter.fetch_add(amount, Ordering::Relaxed);
     }
@@ -110,7 +173,7 @@ impl AgentStats {
     pub fn take_recording(&self) -> Vec<Vec<u8>> {
         self.recorded
             .lock()
-            .map(|mut r| std::mem::take(&mut *r))
+            .map(|mut r| r.take())
             .unwrap_or_default()
     }
 }

@@ -62,6 +62,30 @@ impl<R: Read> FrameReader<R> {
         &self.inner
     }
 
+    /// The next frame if it is already whole in the buffer, without reading: after one read
+    /// brought several frames (a server catching up), the rest are taken from here so that
+    /// a read happens only when the socket has something.
+    pub fn buffered_frame(&mut self) -> Option<Result<&[u8], FrameError>> {
+        let start = self.start + self.handed_out;
+        let held = self.end - start;
+        if held < 4 {
+            return None;
+        }
+        let header: [u8; 4] = self.buf[start..start + 4].try_into().expect("four bytes");
+        let len = u32::from_be_bytes(header) as usize;
+        if len > self.max {
+            self.start = self.end;
+            self.handed_out = 0;
+            return Some(Err(FrameError::TooLarge(len, self.max)));
+        }
+        if held < 4 + len {
+            return None;
+        }
+        self.start = start;
+        self.handed_out = 4 + len;
+        Some(Ok(&self.buf[start + 4..start + 4 + len]))
+    }
+
     /// Block until the next whole frame has arrived and return its payload.
     pub fn read_frame(&mut self) -> Result<&[u8], FrameError> {
         self.start += std::mem::take(&mut self.handed_out);
@@ -263,5 +287,29 @@ mod tests {
         };
         assert_eq!(frame, b"(time (now 2.00))(GS (t 0))");
         assert!(timeouts > 5);
+    }
+
+    #[test]
+    fn frames_already_buffered_are_handed_out_without_another_read() {
+        let mut bytes = Vec::new();
+        for payload in [&b"(a)"[..], b"(bb)", b"(ccc)"] {
+            bytes.extend_from_slice(&(payload.len() as u32).to_be_bytes());
+            bytes.extend_from_slice(payload);
+        }
+        // The third frame arrives only partly with the first read.
+        let cut = bytes.len() - 2;
+        let mut reader = FrameReader::new(Trickle {
+            data: &bytes[..cut],
+            chunk: usize::MAX,
+        });
+        assert_eq!(reader.read_frame().unwrap(), b"(a)");
+        assert_eq!(reader.buffered_frame().unwrap().unwrap(), b"(bb)");
+        assert!(reader.buffered_frame().is_none(), "the third is not whole");
+        let mut corrupt = FrameReader::with_limit(&[0u8, 0, 0, 2, b'o', b'k', 0, 9, 0, 0][..], 8);
+        assert_eq!(corrupt.read_frame().unwrap(), b"ok");
+        assert!(matches!(
+            corrupt.buffered_frame(),
+            Some(Err(FrameError::TooLarge(..)))
+        ));
     }
 }

@@ -174,6 +174,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         b.iter().map(|(_, r)| r.load(Ordering::Relaxed)).sum()
     };
     let stages_before = stage_totals(&team);
+    let each_before = agent_stage_totals(&team);
     let kernel_before = (
         threads_kernel_cpu("agent-"),
         threads_kernel_cpu(BASELINE_THREAD),
@@ -201,6 +202,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         .zip(&stages_before)
         .map(|(&(name, after), &(_, before))| (name, after - before))
         .collect();
+    let each_after = agent_stage_totals(&team);
     let base_cpu = threads_run_s(BASELINE_THREAD) - start.1;
     let server_cpu = process_cpu(server_pid) - start.2;
     let ours_cycles = ours_replies() - start.3;
@@ -234,6 +236,23 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         stage_line(&stages, ours_cycles)
     );
     println!(
+        "ours by agent (wall time inside the cycle, us per cycle): {}",
+        each_after
+            .iter()
+            .zip(&each_before)
+            .map(
+                |((unum, after, cycles_after), (_, before, cycles_before))| {
+                    let cycles = (cycles_after - cycles_before).max(1);
+                    format!(
+                        "{unum}: {:.1}",
+                        (after - before) as f64 / 1e3 / cycles as f64
+                    )
+                }
+            )
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    println!(
         "server: {:.0} us CPU per cycle ({server_cycles} cycles, {server_cpu:.2} s CPU)",
         per(server_cpu, server_cycles)
     );
@@ -242,13 +261,13 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         peak_rss_mb()
     );
     if !recorded.is_empty() {
-        let (cpu_us, stages) = replay(&recorded, &model, &source, &skills, false)?;
+        let (cpu_us, stages) = replay(&recorded, &model, &source, &skills, Replay::Warm)?;
         println!(
             "replay of agent 1's {} recorded cycles, offline ({REPLAYS} times on one thread, no sockets): {cpu_us:.1} us CPU per cycle; by stage: {}",
             recorded.len(),
             stage_line(&stages, (recorded.len() * REPLAYS) as u64)
         );
-        let (_, cold) = replay(&recorded, &model, &source, &skills, true)?;
+        let (_, cold) = replay(&recorded, &model, &source, &skills, Replay::ColdAlone)?;
         let cycles = recorded.len() as u64;
         let total: u64 = cold.iter().map(|(_, ns)| ns).sum();
         println!(
@@ -257,12 +276,25 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
             total as f64 / 1e3 / cycles.max(1) as f64,
             stage_line(&cold, cycles)
         );
+        let (paced_us, paced) = replay(&recorded, &model, &source, &skills, Replay::Paced)?;
+        println!(
+            "the same paced, asleep 20 ms before each cycle as live: {paced_us:.1} us CPU per cycle; by stage: {}",
+            stage_line(&paced, PACED_CYCLES.min(recorded.len()) as u64)
+        );
+        let n = players as usize;
+        let (round_us, round) = replay(&recorded, &model, &source, &skills, Replay::ColdRound(n))?;
+        println!(
+            "{n} players answering the same cycles in turn on one thread, flushed before each round: {round_us:.1} us CPU per agent-cycle; by stage: {}",
+            stage_line(&round, cycles * n as u64)
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
 
 /// Percepts agent 1 records for the offline replay (60 s of play).
 const RECORDED_MAX: usize = 3000;
+/// Cycles of the paced replay (20 ms asleep before each).
+const PACED_CYCLES: usize = 250;
 /// How often the replay runs the recording (each time on a fresh player).
 const REPLAYS: usize = 20;
 /// What a cold replay writes between cycles: more than this machine's L3 (32 MiB), so each cycle starts
@@ -285,6 +317,17 @@ fn stage_totals(team: &Team) -> StageSums {
     sums
 }
 
+/// (uniform number, ns inside the cycle, cycles answered) per agent.
+fn agent_stage_totals(team: &Team) -> Vec<(u32, u64, u64)> {
+    team.stats
+        .iter()
+        .map(|(unum, stats)| {
+            let ns = stats.stages.totals().iter().map(|(_, ns)| ns).sum();
+            (*unum, ns, AgentStats::get(&stats.replies))
+        })
+        .collect()
+}
+
 fn stage_line(stages: &[(&str, u64)], cycles: u64) -> String {
     stages
         .iter()
@@ -300,18 +343,48 @@ fn team_recording(team: &Team) -> Vec<Vec<u8>> {
         .unwrap_or_default()
 }
 
-/// Run `frames` through fresh copies of agent 1, [`REPLAYS`] times, on a thread of its own:
-/// the CPU per cycle and the stage totals.
+/// How the offline replay feeds the recording to fresh copies of agent 1.
+#[derive(Clone, Copy)]
+enum Replay {
+    /// [`REPLAYS`] players one after the other, caches as they are.
+    Warm,
+    /// One player, the caches flushed before each cycle.
+    ColdAlone,
+    /// `n` players fed each percept in turn, the caches flushed before each round: a team
+    /// answering on one thread after the server's step.
+    ColdRound(usize),
+    /// One player, the thread asleep for a server cycle before each percept, as live.
+    Paced,
+}
+
+/// Run `frames` through fresh copies of agent 1 on a thread of its own: the CPU per
+/// agent-cycle and the stage totals.
 fn replay(
     frames: &[Vec<u8>],
     model: &std::sync::Arc<libero_model::RobotModel>,
     source: &libero_agent::LibrarySource,
     skills: &libero_agent::SkillSource,
-    cold: bool,
+    how: Replay,
 ) -> Result<(f64, StageSums), Box<dyn std::error::Error>> {
-    // A cold replay is slow (the flush): once.
-    let players = (0..if cold { 1 } else { REPLAYS })
-        .map(|_| build_player(model, "Libero", 1, source, skills))
+    // (players fed together, times the recording runs, flush)
+    let (together, runs, cold) = match how {
+        Replay::Warm => (1, REPLAYS, false),
+        Replay::ColdAlone => (1, 1, true),
+        Replay::ColdRound(n) => (n.max(1), 1, true),
+        Replay::Paced => (1, 1, false),
+    };
+    let paced = matches!(how, Replay::Paced);
+    let frames = if paced {
+        &frames[..frames.len().min(PACED_CYCLES)]
+    } else {
+        frames
+    };
+    let teams = (0..runs)
+        .map(|_| {
+            (0..together)
+                .map(|_| build_player(model, "Libero", 1, source, skills))
+                .collect::<Result<Vec<_>, _>>()
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let thread = std::thread::Builder::new().name("replay-1".into()).spawn({
         let frames = frames.to_vec();
@@ -324,25 +397,35 @@ fn replay(
             } else {
                 Vec::new()
             };
-            for mut player in players {
+            let mut flush_s = 0.0;
+            for mut team in teams {
                 for frame in &frames {
+                    let flushing = Instant::now();
                     for (i, b) in flush.iter_mut().enumerate().step_by(64) {
                         *b = b.wrapping_add(i as u8);
                     }
-                    out.clear();
-                    player.on_percept(frame, &mut out);
+                    flush_s += flushing.elapsed().as_secs_f64();
+                    if paced {
+                        std::thread::sleep(Duration::from_millis(20));
+                    }
+                    for player in &mut team {
+                        out.clear();
+                        player.on_percept(frame, &mut out);
+                    }
                 }
-                for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
-                    *sum = (name, sum.1 + ns);
+                for player in &team {
+                    for (sum, (name, ns)) in stages.iter_mut().zip(player.stats().stages.totals()) {
+                        *sum = (name, sum.1 + ns);
+                    }
                 }
             }
             std::hint::black_box(&flush);
-            (threads_run_s("replay-") - before, stages)
+            (threads_run_s("replay-") - before - flush_s, stages)
         }
     })?;
     let (cpu_s, stages) = thread.join().map_err(|_| "the replay panicked")?;
-    let runs = if cold { 1 } else { REPLAYS };
-    Ok((1e6 * cpu_s / (frames.len() * runs).max(1) as f64, stages))
+    let cycles = frames.len() * runs * together;
+    Ok((1e6 * cpu_s / cycles.max(1) as f64, stages))
 }
 
 #[cfg(test)]
