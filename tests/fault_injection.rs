@@ -301,3 +301,61 @@ fn an_agent_whose_cycle_panics_leaves_alone_and_its_teammates_on_the_same_thread
     assert_eq!(finished, vec![(1, false), (2, true), (3, false)]);
     assert_eq!(team.stop_reporting_panics(), vec![2]);
 }
+
+/// CPU seconds the threads of this process named `name` have run (`schedstat`).
+fn thread_cpu_s(name: &str) -> f64 {
+    std::fs::read_dir("/proc/self/task")
+        .unwrap()
+        .flatten()
+        .filter(|t| {
+            std::fs::read_to_string(t.path().join("comm")).is_ok_and(|c| c.trim_end() == name)
+        })
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .sum::<f64>()
+        / 1e9
+}
+
+#[test]
+fn an_agent_waiting_for_a_teammates_slow_join_does_not_spin() {
+    init_logging();
+    let (l, port) = listener();
+    let model = t1();
+    let players: Vec<_> = (1..=2)
+        .map(|unum| build::standing_player(&model, "Probe", unum).unwrap())
+        .collect();
+    // Agent 1's first percept comes after a second; agent 2 waits for the join gate meanwhile.
+    let server = std::thread::spawn(move || {
+        let mut agents = Vec::new();
+        for unum in 1..=2 {
+            let (mut s, _) = l.accept().unwrap();
+            assert_eq!(
+                read_reply(&mut s).unwrap(),
+                format!("(init T1 Probe {unum})")
+            );
+            if unum == 1 {
+                std::thread::sleep(Duration::from_secs(1));
+            }
+            s.write_all(&frame(GOOD.as_bytes())).unwrap();
+            read_reply(&mut s).expect("the first reply");
+            agents.push(s);
+        }
+        agents
+    });
+    let mut config = AgentConfig::new("127.0.0.1", port);
+    config.greeting_delay = Duration::ZERO;
+    let team = libero_agent::Team::start(&config, players, Arc::new(AtomicBool::new(false)));
+    let cpu = thread_cpu_s("agent-1-2");
+    let _agents = server.join().unwrap();
+    assert!(
+        team.stats
+            .iter()
+            .all(|(_, s)| AgentStats::get(&s.replies) == 1),
+        "both joined"
+    );
+    assert!(
+        cpu < 0.25,
+        "the team's thread ran {cpu:.2} s of the 1 s wait"
+    );
+    team.stop();
+}

@@ -37,6 +37,8 @@ const SILENCE_REPORTED_AFTER: Duration = Duration::from_secs(10);
 /// next: a join still waiting after this long has failed, and the sync-mode server waits for it
 /// ("a hung agent stalls everyone", simspark.md §1.4) until it disconnects.
 const SIMSPARK_FIRST_PERCEPT: Duration = Duration::from_secs(5);
+/// How often a seat waiting for another's join looks at the gate again.
+const GATE_RETRY: Duration = Duration::from_millis(5);
 const BACKOFF_START: Duration = Duration::from_millis(50);
 const BACKOFF_MAX: Duration = Duration::from_millis(200);
 
@@ -222,6 +224,10 @@ impl<'p> Seat<'p> {
     fn connect(&mut self, now: Instant, config: &AgentConfig, gate: &JoinGate) {
         if !self.holds_gate {
             if !gate.try_enter() {
+                // Another agent is joining: look again shortly (not at once, which would spin).
+                self.phase = Phase::Waiting {
+                    until: now + GATE_RETRY,
+                };
                 return;
             }
             self.holds_gate = true;

@@ -91,6 +91,11 @@ impl FieldGeometry {
         data::from_ron(file, text)
     }
 
+    /// Where the landmark the server calls `name` sits in [`FieldGeometry::landmarks`].
+    pub fn landmark_index(&self, name: &str) -> Option<usize> {
+        self.landmarks.iter().position(|l| l.name == name)
+    }
+
     /// True position of the landmark the server calls `name`.
     pub fn landmark(&self, name: &str) -> Option<[f64; 3]> {
         self.landmarks

@@ -39,6 +39,9 @@ pub struct BodyState {
     /// server): counted so it shows in logs rather than silently ignored.
     pub unknown_joints: u64,
     last_time: Option<f64>,
+    /// The joint the k-th reading named last cycle: a server lists its joints in the same
+    /// order every cycle, so one name comparison finds each.
+    joint_of_reading: [Option<usize>; libero_protocol::percept::MAX_JOINTS],
 }
 
 impl BodyState {
@@ -54,6 +57,7 @@ impl BodyState {
             posture_reading: Posture::Upright,
             lying_read_since: None,
             unknown_joints: 0,
+            joint_of_reading: [None; libero_protocol::percept::MAX_JOINTS],
             last_time: None,
         }
     }
@@ -64,8 +68,12 @@ impl BodyState {
             _ => None,
         };
         self.last_time = percept.time.or(self.last_time);
-        for reading in &percept.joints {
-            let Some(id) = model.joint_by_perceptor(reading.perceptor) else {
+        for (k, reading) in percept.joints.iter().enumerate() {
+            let as_before = self.joint_of_reading[k]
+                .filter(|&id| model.joints[id].perceptor == reading.perceptor);
+            let found = as_before.or_else(|| model.joint_by_perceptor(reading.perceptor));
+            self.joint_of_reading[k] = found;
+            let Some(id) = found else {
                 self.unknown_joints += 1;
                 continue;
             };

@@ -14,7 +14,7 @@ use crate::geometry::{heading_of, polar_to_point, rotate2, wrap_rad};
 use crate::params::LocalizationParams;
 use libero_model::kinematics::{BodyPoses, Kinematics};
 use libero_model::FieldGeometry;
-use libero_protocol::percept::Vision;
+use libero_protocol::percept::{Vision, MAX_LANDMARKS};
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
 
 /// The agent's belief about its own torso pose.
@@ -296,20 +296,24 @@ impl Localizer {
         };
         let camera = *camera;
         self.scratch.clear();
+        // Each name looked up once; a name listed twice is ambiguous: use neither copy.
+        let known: arrayvec::ArrayVec<Option<usize>, MAX_LANDMARKS> = vision
+            .landmarks
+            .iter()
+            .map(|seen| field.landmark_index(seen.name))
+            .collect();
         for (i, seen) in vision.landmarks.iter().enumerate() {
-            // A name listed twice is ambiguous: use neither copy.
-            let duplicate = vision
-                .landmarks
-                .iter()
-                .enumerate()
-                .any(|(j, other)| j != i && other.name == seen.name);
-            let (Some(true_pos), Some(p), false) = (
-                field.landmark(seen.name),
-                polar_to_point(&seen.at),
-                duplicate,
-            ) else {
+            let Some(index) = known[i] else {
                 continue;
             };
+            let duplicate = known
+                .iter()
+                .enumerate()
+                .any(|(j, other)| j != i && *other == Some(index));
+            let (Some(p), false) = (polar_to_point(&seen.at), duplicate) else {
+                continue;
+            };
+            let true_pos = field.landmarks[index].position;
             let offset = self.tilt * (camera * p).coords;
             let sigma = self.params.vision_sigma_floor
                 + self.params.vision_sigma_per_metre * seen.at.distance;
