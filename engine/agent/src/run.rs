@@ -1,7 +1,7 @@
 //! How an agent connects, and running one on this thread until shutdown.
 
 use crate::player::Player;
-use crate::seats::{run_seats, SeatEnd};
+use crate::seats::{run_seats, SeatEnd, WakeStats};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
@@ -97,7 +97,8 @@ pub fn run_agent(
     player: &mut Player,
     shutdown: &AtomicBool,
 ) -> Result<(), AgentError> {
-    let ends = run_seats(config, std::slice::from_mut(player), shutdown);
+    let wakes = WakeStats::default();
+    let ends = run_seats(config, std::slice::from_mut(player), shutdown, &wakes);
     match ends.into_iter().next() {
         Some(SeatEnd::Failed(e)) => Err(e),
         Some(SeatEnd::Panicked(payload)) => std::panic::resume_unwind(payload),

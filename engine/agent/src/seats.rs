@@ -42,6 +42,14 @@ const GATE_RETRY: Duration = Duration::from_millis(5);
 const BACKOFF_START: Duration = Duration::from_millis(50);
 const BACKOFF_MAX: Duration = Duration::from_millis(200);
 
+/// What one thread's waiting cost: how often it woke to answer, and how many percepts it
+/// answered then (`libero bench cycle` prints their ratio).
+#[derive(Debug, Default)]
+pub struct WakeStats {
+    pub wakeups: std::sync::atomic::AtomicU64,
+    pub percepts: std::sync::atomic::AtomicU64,
+}
+
 /// How a seat's agent stopped.
 pub enum SeatEnd {
     /// Asked to (shutdown), or it could not even greet.
@@ -491,6 +499,7 @@ pub fn run_seats(
     config: &AgentConfig,
     players: &mut [Player],
     shutdown: &AtomicBool,
+    wakes: &WakeStats,
 ) -> Vec<SeatEnd> {
     let own_gate;
     let gate: &JoinGate = match &config.join_gate {
@@ -525,10 +534,14 @@ pub fn run_seats(
                 .iter()
                 .filter(|s| matches!(s.phase, Phase::Playing { .. }))
                 .count();
+            let mut answered = ready_now;
             if let Some(window) = rhythm.on_ready(Instant::now(), ready_now, playing) {
                 std::thread::sleep(window);
-                poll_ready(&seats, Duration::ZERO, &mut ready);
+                answered = poll_ready(&seats, Duration::ZERO, &mut ready);
+                wakes.wakeups.fetch_add(1, Ordering::Relaxed);
             }
+            wakes.wakeups.fetch_add(1, Ordering::Relaxed);
+            wakes.percepts.fetch_add(answered as u64, Ordering::Relaxed);
         }
         for (seat, _) in seats.iter_mut().zip(&ready).filter(|(_, r)| **r) {
             seat.on_readable(config, gate, &mut out);

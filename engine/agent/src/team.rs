@@ -2,7 +2,7 @@
 
 use crate::player::Player;
 use crate::run::{AgentConfig, JoinGate};
-use crate::seats::{run_seats, SeatEnd, MAX_SEATS};
+use crate::seats::{run_seats, SeatEnd, WakeStats, MAX_SEATS};
 use crate::stats::AgentStats;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -14,6 +14,7 @@ pub struct Team {
     pub stats: Vec<(u32, Arc<AgentStats>)>,
     /// One thread per [`MAX_SEATS`] agents, with the uniform numbers it answers.
     threads: Vec<(Vec<u32>, JoinHandle<()>)>,
+    wakes: Vec<Arc<WakeStats>>,
     shutdown: Arc<AtomicBool>,
 }
 
@@ -33,6 +34,7 @@ impl Team {
                 .map(|p| (p.world.game.unum, Arc::clone(p.stats())))
                 .collect(),
             threads: Vec::new(),
+            wakes: Vec::new(),
             shutdown,
         };
         let mut players = players.into_iter().peekable();
@@ -45,10 +47,12 @@ impl Team {
                 _ => "agent".into(),
             };
             let (config, stop) = (config.clone(), Arc::clone(&team.shutdown));
+            let wakes = Arc::new(WakeStats::default());
+            team.wakes.push(Arc::clone(&wakes));
             let handle = std::thread::Builder::new()
                 .name(name)
                 .spawn(move || {
-                    let ends = run_seats(&config, &mut seated, &stop);
+                    let ends = run_seats(&config, &mut seated, &stop, &wakes);
                     for (player, end) in seated.iter().zip(ends) {
                         if let SeatEnd::Failed(e) = end {
                             log::error!("agent {}: {e}", player.world.game.unum);
@@ -69,6 +73,16 @@ impl Team {
             }
         }
         team
+    }
+
+    /// The team's threads' wake-ups to answer and the percepts answered then, so far.
+    pub fn wakeups(&self) -> (u64, u64) {
+        self.wakes.iter().fold((0, 0), |(w, p), s| {
+            (
+                w + AgentStats::get(&s.wakeups),
+                p + AgentStats::get(&s.percepts),
+            )
+        })
     }
 
     /// Ask every agent to stop and wait for them.

@@ -175,6 +175,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
     };
     let stages_before = stage_totals(&team);
     let each_before = agent_stage_totals(&team);
+    let wakes_before = team.wakeups();
     let kernel_before = (
         threads_kernel_cpu("agent-"),
         threads_kernel_cpu(BASELINE_THREAD),
@@ -203,6 +204,7 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
         .map(|(&(name, after), &(_, before))| (name, after - before))
         .collect();
     let each_after = agent_stage_totals(&team);
+    let wakes_after = team.wakeups();
     let base_cpu = threads_run_s(BASELINE_THREAD) - start.1;
     let server_cpu = process_cpu(server_pid) - start.2;
     let ours_cycles = ours_replies() - start.3;
@@ -251,6 +253,14 @@ pub fn bench_cycle(players: u32, play_s: f64, data: &DataArgs) -> CliResult {
             )
             .collect::<Vec<_>>()
             .join(", ")
+    );
+    let (wakeups, answered) = (
+        wakes_after.0 - wakes_before.0,
+        wakes_after.1 - wakes_before.1,
+    );
+    println!(
+        "our thread woke {wakeups} times to answer, {:.2} percepts per wake-up",
+        answered as f64 / wakeups.max(1) as f64
     );
     println!(
         "server: {:.0} us CPU per cycle ({server_cycles} cycles, {server_cpu:.2} s CPU)",
