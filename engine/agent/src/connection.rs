@@ -13,13 +13,19 @@ pub struct Connection {
     writer: TcpStream,
 }
 
+/// A TCP stream to `host:port` with Nagle off (each reply goes out at once).
+pub(crate) fn connect(host: &str, port: u16) -> io::Result<TcpStream> {
+    let addr = (host, port).to_socket_addrs()?.next().ok_or_else(|| {
+        io::Error::new(io::ErrorKind::NotFound, format!("{host} does not resolve"))
+    })?;
+    let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(2))?;
+    stream.set_nodelay(true)?;
+    Ok(stream)
+}
+
 impl Connection {
     pub fn open(host: &str, port: u16) -> io::Result<Self> {
-        let addr = (host, port).to_socket_addrs()?.next().ok_or_else(|| {
-            io::Error::new(io::ErrorKind::NotFound, format!("{host} does not resolve"))
-        })?;
-        let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(2))?;
-        stream.set_nodelay(true)?;
+        let stream = connect(host, port)?;
         stream.set_read_timeout(Some(POLL))?;
         let writer = stream.try_clone()?;
         Ok(Self {

@@ -16,7 +16,7 @@ use libero_protocol::{is_timeout, FrameError, FrameReader};
 use rustix::event::{PollFd, PollFlags, Timespec};
 use std::any::Any;
 use std::io::{self, Write};
-use std::net::{TcpStream, ToSocketAddrs};
+use std::net::TcpStream;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -68,11 +68,7 @@ struct Link {
 
 impl Link {
     fn open(host: &str, port: u16) -> io::Result<Link> {
-        let addr = (host, port).to_socket_addrs()?.next().ok_or_else(|| {
-            io::Error::new(io::ErrorKind::NotFound, format!("{host} does not resolve"))
-        })?;
-        let stream = TcpStream::connect_timeout(&addr, Duration::from_secs(2))?;
-        stream.set_nodelay(true)?;
+        let stream = crate::connection::connect(host, port)?;
         stream.set_nonblocking(true)?;
         let writer = stream.try_clone()?;
         Ok(Link {
@@ -126,7 +122,7 @@ enum Phase {
     Playing {
         link: Link,
     },
-    Ended,
+    Ended(SeatEnd),
 }
 
 /// One agent's place at the table.
@@ -142,7 +138,6 @@ struct Seat<'p> {
     heard_at: Instant,
     answered: u64,
     silence_reported: bool,
-    end: Option<SeatEnd>,
 }
 
 impl<'p> Seat<'p> {
@@ -158,7 +153,6 @@ impl<'p> Seat<'p> {
             heard_at: now,
             answered: 0,
             silence_reported: false,
-            end: None,
         }
     }
 
@@ -167,29 +161,35 @@ impl<'p> Seat<'p> {
     }
 
     fn release_gate(&mut self, gate: &JoinGate) {
-        if std::mem::take(&mut self.holds_gate) {
-            gate.leave();
-        }
+        leave_gate(&mut self.holds_gate, gate);
+    }
+
+    fn has_ended(&self) -> bool {
+        matches!(self.phase, Phase::Ended(_))
     }
 
     fn finish(&mut self, end: SeatEnd, gate: &JoinGate) {
         self.release_gate(gate);
-        self.phase = Phase::Ended;
-        self.end = Some(end);
+        self.phase = Phase::Ended(end);
         AgentStats::set_flag(&self.player.stats().ended, true);
     }
 
-    /// Back to waiting after a lost connection, with the growing backoff.
+    /// Back to waiting after the backoff, which grows with each try.
+    fn retry_after_backoff(&mut self, now: Instant) {
+        self.phase = Phase::Waiting {
+            until: now + self.backoff,
+        };
+        self.backoff = (self.backoff * 2).min(BACKOFF_MAX);
+    }
+
+    /// Back to waiting after a lost connection.
     fn lose(&mut self, reason: &str, now: Instant, gate: &JoinGate) {
         self.release_gate(gate);
         log::warn!(
             "agent {}: connection lost ({reason}); reconnecting",
             self.unum()
         );
-        self.phase = Phase::Waiting {
-            until: now + self.backoff,
-        };
-        self.backoff = (self.backoff * 2).min(BACKOFF_MAX);
+        self.retry_after_backoff(now);
     }
 
     /// What time alone changes: connecting, greeting, giving up on a silent server.
@@ -197,7 +197,8 @@ impl<'p> Seat<'p> {
         match &mut self.phase {
             Phase::Waiting { until } if now >= *until => self.connect(now, config, gate),
             Phase::Greeting { at, .. } if now >= *at => {
-                let Phase::Greeting { link, .. } = std::mem::replace(&mut self.phase, Phase::Ended)
+                let placeholder = Phase::Waiting { until: now };
+                let Phase::Greeting { link, .. } = std::mem::replace(&mut self.phase, placeholder)
                 else {
                     unreachable!("matched above")
                 };
@@ -286,10 +287,7 @@ impl<'p> Seat<'p> {
                         config.port
                     );
                 }
-                self.phase = Phase::Waiting {
-                    until: now + self.backoff,
-                };
-                self.backoff = (self.backoff * 2).min(BACKOFF_MAX);
+                self.retry_after_backoff(now);
             }
         }
     }
@@ -308,11 +306,12 @@ impl<'p> Seat<'p> {
         self.phase = Phase::Playing { link };
     }
 
-    /// The socket has something: answer every whole frame that arrived.
-    fn on_readable(&mut self, config: &AgentConfig, gate: &JoinGate, out: &mut Vec<u8>) {
+    /// The socket has something: answer every whole frame that arrived; how many were.
+    fn on_readable(&mut self, config: &AgentConfig, gate: &JoinGate, out: &mut Vec<u8>) -> u64 {
         let Phase::Playing { link } = &mut self.phase else {
-            return;
+            return 0;
         };
+        let answered_before = self.answered;
         let now = Instant::now();
         let mut lost = None;
         let mut refused = false;
@@ -345,7 +344,7 @@ impl<'p> Seat<'p> {
                         log::error!("agent {unum}: its cycle panicked; the agent leaves");
                         AgentStats::set_flag(&self.player.stats().panicked, true);
                         self.finish(SeatEnd::Panicked(payload), gate);
-                        return;
+                        return self.answered - answered_before;
                     }
                     if let Err(e) = write_whole(&mut link.writer, out) {
                         lost = Some(format!("send failed: {e}"));
@@ -353,9 +352,7 @@ impl<'p> Seat<'p> {
                     }
                     self.answered += 1;
                     // In: the next agent may join.
-                    if std::mem::take(&mut self.holds_gate) {
-                        gate.leave();
-                    }
+                    leave_gate(&mut self.holds_gate, gate);
                     self.backoff = BACKOFF_START;
                     self.refusals = 0;
                 }
@@ -375,6 +372,7 @@ impl<'p> Seat<'p> {
         } else if let Some(reason) = lost {
             self.lose(&reason, now, gate);
         }
+        self.answered - answered_before
     }
 
     /// The server closed the connection before the first percept.
@@ -412,8 +410,16 @@ impl<'p> Seat<'p> {
     }
 }
 
+/// Give the join gate back if `holds` says this seat has it.
+fn leave_gate(holds: &mut bool, gate: &JoinGate) {
+    if std::mem::take(holds) {
+        gate.leave();
+    }
+}
+
 /// Wait up to `wait` for the playing seats' sockets; mark the ones with something to read.
-fn poll_ready(seats: &[Seat], wait: Duration, ready: &mut [bool; MAX_SEATS]) -> usize {
+/// (how many have, how many were watched).
+fn poll_ready(seats: &[Seat], wait: Duration, ready: &mut [bool; MAX_SEATS]) -> (usize, usize) {
     let mut fds = arrayvec::ArrayVec::<PollFd, MAX_SEATS>::new();
     let mut owner = [0usize; MAX_SEATS];
     for (i, seat) in seats.iter().enumerate() {
@@ -435,7 +441,7 @@ fn poll_ready(seats: &[Seat], wait: Duration, ready: &mut [bool; MAX_SEATS]) -> 
             std::thread::sleep(POLL);
         }
     }
-    ready.iter().filter(|r| **r).count()
+    (ready.iter().filter(|r| **r).count(), fds.len())
 }
 
 /// The server's rhythm as the percepts arrive: each cycle's percepts come in a burst, one
@@ -518,7 +524,7 @@ pub fn run_seats(
     let mut out = Vec::with_capacity(4096);
     let mut ready = [false; MAX_SEATS];
     let mut rhythm = Rhythm::new(now);
-    while !shutdown.load(Ordering::Relaxed) && seats.iter().any(|s| s.end.is_none()) {
+    while !shutdown.load(Ordering::Relaxed) && seats.iter().any(|s| !s.has_ended()) {
         let now = Instant::now();
         for seat in &mut seats {
             seat.on_clock(now, config, gate);
@@ -528,23 +534,19 @@ pub fn run_seats(
             .filter_map(Seat::next_deadline)
             .map(|at| at.saturating_duration_since(now))
             .fold(POLL, Duration::min);
-        let ready_now = poll_ready(&seats, wait, &mut ready);
-        if ready_now > 0 {
-            let playing = seats
-                .iter()
-                .filter(|s| matches!(s.phase, Phase::Playing { .. }))
-                .count();
-            let mut answered = ready_now;
-            if let Some(window) = rhythm.on_ready(Instant::now(), ready_now, playing) {
-                std::thread::sleep(window);
-                answered = poll_ready(&seats, Duration::ZERO, &mut ready);
-                wakes.wakeups.fetch_add(1, Ordering::Relaxed);
-            }
+        let (ready_now, playing) = poll_ready(&seats, wait, &mut ready);
+        if ready_now == 0 {
+            continue;
+        }
+        wakes.wakeups.fetch_add(1, Ordering::Relaxed);
+        if let Some(window) = rhythm.on_ready(Instant::now(), ready_now, playing) {
+            std::thread::sleep(window);
+            poll_ready(&seats, Duration::ZERO, &mut ready);
             wakes.wakeups.fetch_add(1, Ordering::Relaxed);
-            wakes.percepts.fetch_add(answered as u64, Ordering::Relaxed);
         }
         for (seat, _) in seats.iter_mut().zip(&ready).filter(|(_, r)| **r) {
-            seat.on_readable(config, gate, &mut out);
+            let answered = seat.on_readable(config, gate, &mut out);
+            wakes.percepts.fetch_add(answered, Ordering::Relaxed);
         }
     }
     seats
@@ -552,7 +554,10 @@ pub fn run_seats(
         .map(|mut seat| {
             seat.release_gate(gate);
             AgentStats::set_flag(&seat.player.stats().ended, true);
-            seat.end.take().unwrap_or(SeatEnd::Stopped)
+            match seat.phase {
+                Phase::Ended(end) => end,
+                _ => SeatEnd::Stopped,
+            }
         })
         .collect()
 }

@@ -62,53 +62,50 @@ impl<R: Read> FrameReader<R> {
         &self.inner
     }
 
+    /// Drop the frame handed out last; then where the next whole frame lies in the buffer
+    /// (`Ok(Ok((start, len)))`, handed out now), or how many bytes from `start` it needs
+    /// (`Ok(Err(wanted))`).
+    fn take_whole(&mut self) -> Result<Result<(usize, usize), usize>, FrameError> {
+        self.start += std::mem::take(&mut self.handed_out);
+        let held = self.end - self.start;
+        if held < 4 {
+            return Ok(Err(4));
+        }
+        let header: [u8; 4] = self.buf[self.start..self.start + 4]
+            .try_into()
+            .expect("four bytes");
+        let len = u32::from_be_bytes(header) as usize;
+        if len > self.max {
+            // The stream has lost its framing: nothing after this can be trusted.
+            self.start = self.end;
+            return Err(FrameError::TooLarge(len, self.max));
+        }
+        if held < 4 + len {
+            return Ok(Err(4 + len));
+        }
+        self.handed_out = 4 + len;
+        Ok(Ok((self.start + 4, len)))
+    }
+
     /// The next frame if it is already whole in the buffer, without reading: after one read
     /// brought several frames (a server catching up), the rest are taken from here so that
     /// a read happens only when the socket has something.
     pub fn buffered_frame(&mut self) -> Option<Result<&[u8], FrameError>> {
-        let start = self.start + self.handed_out;
-        let held = self.end - start;
-        if held < 4 {
-            return None;
+        match self.take_whole() {
+            Ok(Ok((start, len))) => Some(Ok(&self.buf[start..start + len])),
+            Ok(Err(_)) => None,
+            Err(e) => Some(Err(e)),
         }
-        let header: [u8; 4] = self.buf[start..start + 4].try_into().expect("four bytes");
-        let len = u32::from_be_bytes(header) as usize;
-        if len > self.max {
-            self.start = self.end;
-            self.handed_out = 0;
-            return Some(Err(FrameError::TooLarge(len, self.max)));
-        }
-        if held < 4 + len {
-            return None;
-        }
-        self.start = start;
-        self.handed_out = 4 + len;
-        Some(Ok(&self.buf[start + 4..start + 4 + len]))
     }
 
     /// Block until the next whole frame has arrived and return its payload.
     pub fn read_frame(&mut self) -> Result<&[u8], FrameError> {
-        self.start += std::mem::take(&mut self.handed_out);
         loop {
-            let held = self.end - self.start;
-            let wanted = if held >= 4 {
-                let header: [u8; 4] = self.buf[self.start..self.start + 4]
-                    .try_into()
-                    .expect("four bytes");
-                let len = u32::from_be_bytes(header) as usize;
-                if len > self.max {
-                    // The stream has lost its framing: nothing after this can be trusted.
-                    self.start = self.end;
-                    return Err(FrameError::TooLarge(len, self.max));
-                }
-                if held >= 4 + len {
-                    self.handed_out = 4 + len;
-                    return Ok(&self.buf[self.start + 4..self.start + 4 + len]);
-                }
-                4 + len
-            } else {
-                4
+            let wanted = match self.take_whole()? {
+                Ok((start, len)) => return Ok(&self.buf[start..start + len]),
+                Err(wanted) => wanted,
             };
+            let held = self.end - self.start;
             // Room for the rest of this frame after the bytes held, at the buffer's front.
             if self.start > 0 {
                 self.buf.copy_within(self.start..self.end, 0);
