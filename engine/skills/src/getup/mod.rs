@@ -343,12 +343,16 @@ pub(crate) fn step(
                     let held = run
                         .held_since
                         .is_some_and(|since| now - since >= frame.hold_s - 1e-6);
-                    if !held && t >= frame.duration_s + frame.timeout_s {
+                    let out_of_time = t >= frame.duration_s + frame.timeout_s;
+                    if !held && out_of_time && frame.timeout_goes_on {
+                        true
+                    } else if !held && out_of_time {
                         pose.copy_from_slice(target);
                         run.from.copy_from_slice(target);
                         return Step::TimedOut(frame.on_timeout.clone());
+                    } else {
+                        held
                     }
-                    held
                 }
             };
         if !done {

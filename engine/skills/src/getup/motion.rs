@@ -33,6 +33,12 @@ pub struct Keyframe {
     #[serde(default)]
     /// Shared: a timeout during play hands the name on without copying it.
     pub on_timeout: Option<std::sync::Arc<str>>,
+    /// When `until` has not come within `timeout_s`, go on with the next frame instead of
+    /// starting over: for a wait that helps when it can come but is not needed (lying flat
+    /// before the tuck: a robot left in a pike by a failed try lies flat first, one with its
+    /// body rolled a little starts anyway).
+    #[serde(default)]
+    pub timeout_goes_on: bool,
     /// Torso pitch [deg, + nose down] this frame should end at; when given, the ankles and
     /// hips push against the measured deviation (`get_up.balance`) during the frame.
     #[serde(default)]
@@ -332,6 +338,11 @@ pub(crate) fn validate_frames(
                     }
                 ));
             }
+        }
+        if frame.timeout_goes_on && (frame.until.is_none() || frame.on_timeout.is_some()) {
+            return Err(format!(
+                "{at}.timeout_goes_on: needs an `until` to time out on and no `on_timeout`"
+            ));
         }
         if let Some(c) = frame.until {
             c.validate(&at)?;

@@ -11,6 +11,7 @@ fn frame(duration_s: f64, knee: f64, until: Option<Condition>) -> Keyframe {
         timeout_s: 0.5,
         hold_s: 0.0,
         on_timeout: None,
+        timeout_goes_on: false,
         balance_pitch_deg: None,
     }
 }
@@ -389,4 +390,43 @@ fn the_skills_stand_after_a_get_up_until_the_body_is_calm_then_walk() {
     }
     assert!(world.time - calm_from >= settle.calm_s - 1e-9);
     assert_eq!(skills.active(), ActiveSkill::Walk);
+}
+
+#[test]
+fn a_wait_that_may_go_on_plays_the_next_frame_at_its_timeout_instead_of_starting_over() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut flat = frame(0.2, 0.0, Some(Condition::TorsoPitchBelow(30.0)));
+    flat.timeout_s = 0.3;
+    flat.timeout_goes_on = true;
+    let motion = [flat.clone(), frame(0.2, 90.0, None)];
+    let mut run = start(&model);
+    let mut pose = vec![0.0; model.joints.len()];
+    // Never below 30°: at 0.2 + 0.3 s the tuck comes anyway, and no start over.
+    assert!(matches!(
+        step(&mut run, &motion, 0.49, &pitched(60.0), &model, &mut pose),
+        Step::Playing
+    ));
+    assert_eq!(run.frame, 0, "still waiting");
+    assert!(matches!(
+        step(&mut run, &motion, 0.50, &pitched(60.0), &model, &mut pose),
+        Step::Playing
+    ));
+    assert_eq!(run.frame, 1, "went on");
+    // The condition come in time ends the wait at once, as any `until`.
+    let mut run = start(&model);
+    step(&mut run, &motion, 0.21, &pitched(10.0), &model, &mut pose);
+    assert_eq!(run.frame, 1);
+    // Validated: it needs an `until`, and it cannot also switch to a recovery.
+    let mut p = builtin_get_up();
+    p.front = vec![flat.clone(), frame(0.2, 90.0, None)];
+    p.validate(&model).unwrap();
+    p.front[0].until = None;
+    assert!(p.validate(&model).unwrap_err().contains("timeout_goes_on"));
+    p.front[0] = Keyframe {
+        on_timeout: Some("x".into()),
+        ..flat
+    };
+    p.recover
+        .insert("x".to_string(), vec![frame(0.2, 0.0, None)]);
+    assert!(p.validate(&model).unwrap_err().contains("timeout_goes_on"));
 }

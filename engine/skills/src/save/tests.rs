@@ -12,6 +12,7 @@ pub(crate) fn frame(duration_s: f64, pose: &[(&str, f64)]) -> Keyframe {
         timeout_s: 1.0,
         hold_s: 0.0,
         on_timeout: None,
+        timeout_goes_on: false,
         balance_pitch_deg: None,
     }
 }
