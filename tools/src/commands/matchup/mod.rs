@@ -9,7 +9,7 @@ use super::CliResult;
 use clap::Args;
 use libero_model::FieldGeometry;
 use libero_server::{Rules, ServerKind, ServerOptions, ServerProcess};
-use observer::{Figures, Goals, Observer, Sample};
+use observer::{DownAndUp, Figures, Goals, Observer, Sample};
 use serde::Serialize;
 use side::{TeamEntry, TeamSetup};
 use std::io::{IsTerminal, Write};
@@ -266,7 +266,7 @@ fn play_half(
     let started = Instant::now();
     let end_time = args.duration.unwrap_or(f64::INFINITY);
     let half_length_s = args.duration.unwrap_or(args.half_time_s());
-    let mut observer = Observer::new(goals);
+    let mut observer = Observer::new(goals, down_and_up(args.server)?);
     let mut progress = Progress::new(half_length_s);
     let mut last_frame = 0;
     let snapshot = loop {
@@ -463,4 +463,24 @@ impl Progress {
             println!();
         }
     }
+}
+
+/// The torso heights the report counts falls by: from the lowest standing robot the server
+/// fields (rcssservermj's T1; SimSpark's NAO types, which differ by 5.5 cm).
+fn down_and_up(server: ServerKind) -> Result<DownAndUp, Box<dyn std::error::Error>> {
+    let names: &[&str] = match server {
+        ServerKind::RcssMj => &["T1"],
+        ServerKind::SimSpark => &[
+            "nao_type0",
+            "nao_type1",
+            "nao_type2",
+            "nao_type3",
+            "nao_type4",
+        ],
+    };
+    let mut lowest = f64::INFINITY;
+    for name in names {
+        lowest = lowest.min(libero_model::RobotModel::builtin(name)?.standing_torso_height);
+    }
+    Ok(DownAndUp::of_standing(lowest))
 }

@@ -4,9 +4,29 @@
 use serde::Serialize;
 use std::collections::HashMap;
 
-/// Torso height [m] below which a robot counts as down, and above which it is up again.
-const DOWN_BELOW_M: f64 = 0.3;
-const UP_ABOVE_M: f64 = 0.5;
+/// A robot is down once its torso is below this share of its standing height, and up again
+/// above this one (the T1's 0.30 m and 0.50 m of 0.67 m; a NAO's 0.17 m and 0.29 m of
+/// 0.385 m, its walk crouching at ~0.35 m).
+const DOWN_BELOW_SHARE: f64 = 0.45;
+const UP_ABOVE_SHARE: f64 = 0.75;
+
+/// Torso heights [m] that count a robot down and up again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DownAndUp {
+    pub down_below_m: f64,
+    pub up_above_m: f64,
+}
+
+impl DownAndUp {
+    /// For robots standing `standing_m` tall (the lowest of a match's models: fixed T1
+    /// heights read every NAO that fell as down until the end of the half).
+    pub fn of_standing(standing_m: f64) -> Self {
+        Self {
+            down_below_m: standing_m * DOWN_BELOW_SHARE,
+            up_above_m: standing_m * UP_ABOVE_SHARE,
+        }
+    }
+}
 /// A fall the robot has not got up from within this long breaks the match bar.
 pub const STAND_WITHIN_S: f64 = 8.0;
 /// A robot whose torso jumps this far between two updates outside the beam modes was moved by
@@ -127,6 +147,7 @@ struct RobotTrack {
 #[derive(Debug)]
 pub struct Observer {
     goals: Goals,
+    posture: DownAndUp,
     last: Option<Sample>,
     robots: HashMap<(bool, u32), RobotTrack>,
     /// Figures by side: `[left, right]`.
@@ -154,9 +175,10 @@ fn beam_mode(mode: &str) -> bool {
 }
 
 impl Observer {
-    pub fn new(goals: Goals) -> Self {
+    pub fn new(goals: Goals, posture: DownAndUp) -> Self {
         Self {
             goals,
+            posture,
             last: None,
             robots: HashMap::new(),
             sides: Default::default(),
@@ -228,7 +250,7 @@ impl Observer {
         track.last = Some(at);
         let counted = now.mode != "BeforeKickOff";
         match track.down_since {
-            None if robot.torso[2] < DOWN_BELOW_M && counted => {
+            None if robot.torso[2] < self.posture.down_below_m && counted => {
                 track.down_since = Some(now.time);
                 figures.falls += 1;
             }
@@ -237,7 +259,7 @@ impl Observer {
                     track.down_s += dt;
                 }
                 let down_for = now.time - since;
-                if robot.torso[2] > UP_ABOVE_M || !counted {
+                if robot.torso[2] > self.posture.up_above_m || !counted {
                     track.down_since = None;
                     if down_for > STAND_WITHIN_S {
                         figures.falls_slow_to_stand += 1;

@@ -1,5 +1,11 @@
 use super::*;
 
+/// The T1's: down below 0.30 m, up above 0.50 m.
+const T1_POSTURE: DownAndUp = DownAndUp {
+    down_below_m: 0.30,
+    up_above_m: 0.50,
+};
+
 const GOALS: Goals = Goals {
     half_length: 27.5,
     goal_half_width: 1.83,
@@ -26,7 +32,7 @@ fn sample(time: f64, mode: &str, ball: [f64; 2], robots: Vec<RobotSample>) -> Sa
 
 /// The ball rolling from `from` along `velocity` for 1 s, a kicker of `left` at the start.
 fn kick(left: bool, from: [f64; 2], velocity: [f64; 2]) -> [Figures; 2] {
-    let mut observer = Observer::new(GOALS);
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
     let kicker = || vec![robot(left, 7, from[0] - 0.3, from[1], 0.6)];
     observer.feed(sample(10.0, "PlayOn", from, kicker()));
     observer.feed(sample(10.02, "PlayOn", from, kicker()));
@@ -68,7 +74,7 @@ fn the_right_team_shoots_at_the_goal_at_minus_x() {
 
 #[test]
 fn falls_count_with_how_long_the_robot_lay() {
-    let mut observer = Observer::new(GOALS);
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
     let mut t = 0.0;
     let mut feed = |observer: &mut Observer, z: f64, until: f64| {
         while t < until {
@@ -101,7 +107,7 @@ fn falls_count_with_how_long_the_robot_lay() {
 
 #[test]
 fn a_jump_in_play_is_a_relocation_and_a_beam_is_not() {
-    let mut observer = Observer::new(GOALS);
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
     let at = |x: f64| vec![robot(true, 4, x, 0.0, 0.6)];
     observer.feed(sample(1.0, "PlayOn", [9.0, 9.0], at(0.0)));
     observer.feed(sample(1.02, "PlayOn", [9.0, 9.0], at(0.0)));
@@ -115,7 +121,7 @@ fn a_jump_in_play_is_a_relocation_and_a_beam_is_not() {
 
 #[test]
 fn a_pass_is_a_teammate_holding_the_ball_next_after_it_travelled() {
-    let mut observer = Observer::new(GOALS);
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
     let team = vec![robot(true, 2, 0.0, 0.0, 0.6), robot(true, 3, 4.0, 0.0, 0.6)];
     let mut t = 0.0;
     for x in [0.2, 0.2, 1.0, 2.0, 3.0, 3.8, 3.8] {
@@ -136,7 +142,7 @@ fn a_pass_is_a_teammate_holding_the_ball_next_after_it_travelled() {
 
 #[test]
 fn kick_off_time_runs_from_the_mode_to_the_first_touch() {
-    let mut observer = Observer::new(GOALS);
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
     observer.feed(sample(0.0, "BeforeKickOff", [0.0, 0.0], vec![]));
     observer.feed(sample(0.0, "KickOff_Left", [0.0, 0.0], vec![]));
     observer.feed(sample(1.0, "KickOff_Left", [0.0, 0.0], vec![]));
@@ -150,7 +156,7 @@ fn kick_off_time_runs_from_the_mode_to_the_first_touch() {
 
 #[test]
 fn possession_goes_to_the_side_nearer_the_ball_and_localization_is_averaged() {
-    let mut observer = Observer::new(GOALS);
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
     let robots = vec![
         robot(true, 2, 0.0, 0.0, 0.6),
         robot(false, 2, 1.5, 0.0, 0.6),
@@ -167,4 +173,33 @@ fn possession_goes_to_the_side_nearer_the_ball_and_localization_is_averaged() {
     assert!((left.possession_s - 2.0).abs() < 0.03, "{left:?}");
     assert_eq!(right.possession_s, 0.0);
     assert!((left.localization_error_m.unwrap() - 0.1).abs() < 1e-9);
+}
+
+#[test]
+fn a_nao_that_got_up_and_walks_crouched_is_up_again() {
+    // NAO type 0 stands 0.385 m tall and walks crouched at ~0.35 m: with the T1's 0.5 m it
+    // stayed down for the rest of the half after its first fall.
+    let nao = DownAndUp::of_standing(0.385);
+    let t1 = DownAndUp::of_standing(0.6735);
+    assert!((t1.down_below_m - 0.30).abs() < 0.01 && (t1.up_above_m - 0.50).abs() < 0.01);
+    let mut observer = Observer::new(GOALS, nao);
+    let mut t = 0.0;
+    let mut feed = |observer: &mut Observer, z: f64, until: f64| {
+        while t < until {
+            observer.feed(sample(
+                t,
+                "PlayOn",
+                [5.0, 5.0],
+                vec![robot(true, 5, 0.0, 0.0, z)],
+            ));
+            t += 0.02;
+        }
+    };
+    feed(&mut observer, 0.35, 1.0);
+    feed(&mut observer, 0.06, 4.0); // down 3 s
+    feed(&mut observer, 0.35, 30.0);
+    let [left, _] = observer.finish(30.0).0;
+    assert_eq!(left.falls, 1);
+    assert_eq!(left.falls_slow_to_stand, 0, "{left:?}");
+    assert!((left.longest_down_s - 3.0).abs() < 0.1, "{left:?}");
 }
