@@ -72,26 +72,35 @@ fn the_right_team_shoots_at_the_goal_at_minus_x() {
     assert_eq!(left.shots, 0);
 }
 
-#[test]
-fn falls_count_with_how_long_the_robot_lay() {
-    let mut observer = Observer::new(GOALS, T1_POSTURE);
+/// Player `unum` of the left team in play, its torso at each `(height, until)` in turn from
+/// time 0, one sample every 20 ms.
+fn torso_heights(observer: &mut Observer, unum: u32, heights: &[(f64, f64)]) {
     let mut t = 0.0;
-    let mut feed = |observer: &mut Observer, z: f64, until: f64| {
+    for &(z, until) in heights {
         while t < until {
             observer.feed(sample(
                 t,
                 "PlayOn",
                 [5.0, 5.0],
-                vec![robot(true, 2, 0.0, 0.0, z)],
+                vec![robot(true, unum, 0.0, 0.0, z)],
             ));
             t += 0.02;
         }
-    };
-    feed(&mut observer, 0.6, 1.0);
-    feed(&mut observer, 0.2, 4.0); // down 3 s
-    feed(&mut observer, 0.6, 10.0);
-    feed(&mut observer, 0.2, 20.0); // down 10 s
-    feed(&mut observer, 0.6, 30.0);
+    }
+}
+
+#[test]
+fn falls_count_with_how_long_the_robot_lay() {
+    let mut observer = Observer::new(GOALS, T1_POSTURE);
+    // Down 3 s, then 10 s.
+    let heights = [
+        (0.6, 1.0),
+        (0.2, 4.0),
+        (0.6, 10.0),
+        (0.2, 20.0),
+        (0.6, 30.0),
+    ];
+    torso_heights(&mut observer, 2, &heights);
     let [left, _] = observer.finish(30.0).0;
     assert_eq!(left.falls, 2);
     assert_eq!(left.falls_slow_to_stand, 1);
@@ -183,21 +192,8 @@ fn a_nao_that_got_up_and_walks_crouched_is_up_again() {
     let t1 = DownAndUp::of_standing(0.6735);
     assert!((t1.down_below_m - 0.30).abs() < 0.01 && (t1.up_above_m - 0.50).abs() < 0.01);
     let mut observer = Observer::new(GOALS, nao);
-    let mut t = 0.0;
-    let mut feed = |observer: &mut Observer, z: f64, until: f64| {
-        while t < until {
-            observer.feed(sample(
-                t,
-                "PlayOn",
-                [5.0, 5.0],
-                vec![robot(true, 5, 0.0, 0.0, z)],
-            ));
-            t += 0.02;
-        }
-    };
-    feed(&mut observer, 0.35, 1.0);
-    feed(&mut observer, 0.06, 4.0); // down 3 s
-    feed(&mut observer, 0.35, 30.0);
+    // Down 3 s, then walking crouched.
+    torso_heights(&mut observer, 5, &[(0.35, 1.0), (0.06, 4.0), (0.35, 30.0)]);
     let [left, _] = observer.finish(30.0).0;
     assert_eq!(left.falls, 1);
     assert_eq!(left.falls_slow_to_stand, 0, "{left:?}");
