@@ -271,11 +271,12 @@ fn naos_of_other_types_get_up_with_their_own_motions() {
 }
 
 /// The NAO's key-frame long kick on the real SimSpark after its own approach, shortened for CI
-/// (the full measurement is `libero bench kick --robot nao_type0`: session 24, 19 of 20 long
-/// kicks made, 5.57-5.74 m, |direction| ~3°, no fall; session 20's frames and approach kicked
-/// 3.8 m mean, min 1.6 m, and 4.2 m after session 24's approach). Before the key frames the IK
+/// (the full measurement is `libero bench kick --robot nao_type0`: session 24, 18 of 20 long
+/// kicks made, 6.1-6.6 m, |direction| within 2° but once 7.7°, no fall; session 20's frames and
+/// approach kicked 3.8 m mean, min 1.6 m, and 4.2 m after session 24's approach). Before the key frames the IK
 /// kick moved the ball 0.0 m and fell. The bars are on the three together, below the bench:
-/// every kick made, none fallen, 4.8 m (the older frames fail it) and 10° on average.
+/// every kick made, none fallen, 5.8 m (the older frames, 4.2 m, and the same frames started
+/// from the walk's crouch, 5.6 m, fail it) and 10° on average.
 #[test]
 fn a_nao_kicks_the_ball_several_metres_where_it_is_asked() {
     use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
@@ -313,6 +314,6 @@ fn a_nao_kicks_the_ball_several_metres_where_it_is_asked() {
         distance += o.distance_m / setups.len() as f64;
         error += o.direction_error_deg.abs() / setups.len() as f64;
     }
-    assert!(distance >= 4.8, "kicked {distance:.2} m on average");
+    assert!(distance >= 5.8, "kicked {distance:.2} m on average");
     assert!(error <= 10.0, "direction off by {error:.1}° on average");
 }
