@@ -64,7 +64,6 @@ fn kick(
         (0.3, 1.0)
     };
     let mut placed = false;
-    let look_down = std::env::var("LOOK_DOWN").is_ok();
     let script = move |w: &libero_world::World, t: f64| -> Option<Intent> {
         let mut m = monitor.lock().ok()?;
         if !placed && t > place_at {
@@ -116,22 +115,12 @@ fn kick(
             }
         }
         o.1 = b;
-        // LOOK_DOWN=1: the head looks down at the ball as the kick skill holds it during a
-        // kick (its frames are played by the skill that way in play).
-        let head = if look_down {
-            libero_skills::HeadIntent::LookAt {
-                target: [ball[0], ball[1]],
-            }
-        } else {
-            libero_skills::HeadIntent::Hold
-        };
         (t < motion_at + 3.5).then(|| Intent {
             body: if t < motion_at + 1.8 {
                 BodyIntent::Motion { id }
             } else {
                 BodyIntent::Stand
             },
-            head,
             ..Default::default()
         })
     };

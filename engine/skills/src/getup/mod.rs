@@ -344,15 +344,12 @@ pub(crate) fn step(
                         .held_since
                         .is_some_and(|since| now - since >= frame.hold_s - 1e-6);
                     let out_of_time = t >= frame.duration_s + frame.timeout_s;
-                    if !held && out_of_time && frame.timeout_goes_on {
-                        true
-                    } else if !held && out_of_time {
+                    if !held && out_of_time && !frame.timeout_goes_on {
                         pose.copy_from_slice(target);
                         run.from.copy_from_slice(target);
                         return Step::TimedOut(frame.on_timeout.clone());
-                    } else {
-                        held
                     }
+                    held || out_of_time
                 }
             };
         if !done {

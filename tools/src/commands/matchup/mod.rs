@@ -4,7 +4,7 @@
 mod observer;
 mod side;
 
-use super::setup::{ctrl_c_flag, DataArgs, LogArgs};
+use super::setup::{ctrl_c_flag, load_robot, robot_for_unum, DataArgs, LogArgs};
 use super::CliResult;
 use clap::Args;
 use libero_model::FieldGeometry;
@@ -266,7 +266,7 @@ fn play_half(
     let started = Instant::now();
     let end_time = args.duration.unwrap_or(f64::INFINITY);
     let half_length_s = args.duration.unwrap_or(args.half_time_s());
-    let mut observer = Observer::new(goals, down_and_up(args.server)?);
+    let mut observer = Observer::new(goals, down_and_up(args.server, args.players())?);
     let mut progress = Progress::new(half_length_s);
     let mut last_frame = 0;
     let snapshot = loop {
@@ -465,22 +465,13 @@ impl Progress {
     }
 }
 
-/// The torso heights the report counts falls by: from the lowest standing robot the server
-/// fields (rcssservermj's T1; SimSpark's NAO types, which differ by 5.5 cm).
-fn down_and_up(server: ServerKind) -> Result<DownAndUp, Box<dyn std::error::Error>> {
-    let names: &[&str] = match server {
-        ServerKind::RcssMj => &["T1"],
-        ServerKind::SimSpark => &[
-            "nao_type0",
-            "nao_type1",
-            "nao_type2",
-            "nao_type3",
-            "nao_type4",
-        ],
-    };
+/// The torso heights the report counts falls by: from the lowest standing robot a team of
+/// `players` fields on the server (SimSpark's NAO types differ by 5.5 cm).
+fn down_and_up(server: ServerKind, players: u32) -> Result<DownAndUp, Box<dyn std::error::Error>> {
     let mut lowest = f64::INFINITY;
-    for name in names {
-        lowest = lowest.min(libero_model::RobotModel::builtin(name)?.standing_torso_height);
+    for unum in 1..=players {
+        let model = load_robot(&robot_for_unum(side::team_robot(server), unum), None)?;
+        lowest = lowest.min(model.standing_torso_height);
     }
     Ok(DownAndUp::of_standing(lowest))
 }

@@ -18,6 +18,15 @@ pub enum Kind {
     External(String),
 }
 
+/// The robot name a team of ours fields on `server` (`NAO`: each number's type by the team
+/// rules, `robot_for_unum`).
+pub fn team_robot(server: ServerKind) -> &'static str {
+    match server {
+        ServerKind::RcssMj => "T1",
+        ServerKind::SimSpark => "NAO",
+    }
+}
+
 pub struct TeamSetup {
     pub name: String,
     pub kind: Kind,
@@ -55,10 +64,7 @@ impl TeamSetup {
                 if let Some(view) = view {
                     view.watch_library(&self.name, &source);
                 }
-                let robot = match server {
-                    ServerKind::RcssMj => "T1",
-                    ServerKind::SimSpark => "NAO",
-                };
+                let robot = team_robot(server);
                 // One skill parameter file for the team (every NAO type shares nao.ron).
                 let mut skills = None;
                 let mut team = Vec::new();
