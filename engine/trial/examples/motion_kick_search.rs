@@ -12,9 +12,16 @@
 //! than 30° off the heading, the directions' spread (`SPREAD_WEIGHT` m per deg, 0.05) and falls.
 //! The best so far is printed
 //! after every generation as RON key frames.
+//! `SKILL_KICKS` > 0: each candidate is judged by that many kicks of the kick skill itself
+//! (`kick_bench::kick_once`: the approach's walk-in, then the key frames from the stance it
+//! ends in), from the bench's seeded setups (the same ones for every candidate of a
+//! generation); `ax` / `ay` then move the approach's kicking place (`ball_ahead_m`,
+//! `ball_beside_m`). `TRIALS` servers judge candidates side by side (the runs are
+//! latency-bound).
 use libero_skills::getup::Keyframe;
 use libero_skills::{BodyIntent, Intent, SkillParams};
 use libero_trial::cmaes::CmaEs;
+use libero_trial::kick_bench::{kick_once, setups, KICK_LIMIT_S};
 use libero_trial::{Episode, Trial};
 use std::sync::{Arc, Mutex};
 
@@ -149,6 +156,29 @@ fn kick(
     }
 }
 
+/// `count` kicks of the kick skill from the bench's setups of `seed`: (distance, direction
+/// error, fell); a kick never made counts 0 m.
+fn skill_kicks(
+    trial: &mut Trial,
+    params: &SkillParams,
+    count: usize,
+    seed: u64,
+) -> Vec<(f64, f64, bool)> {
+    setups(count, seed, 8.0)
+        .into_iter()
+        .map(
+            |setup| match kick_once(trial, params, setup, KICK_LIMIT_S) {
+                Ok(o) if o.kicked => (o.distance_m, o.direction_error_deg, o.fell),
+                Ok(o) => (0.0, 0.0, o.fell),
+                Err(e) => {
+                    eprintln!("kick lost: {e}");
+                    (0.0, 0.0, true)
+                }
+            },
+        )
+        .collect()
+}
+
 /// The cost of one candidate's kicks (distance, direction, fell): the mean distance to gain;
 /// a mean direction more than 30° to the side (within that, `keyframe_aim_deg` makes it up),
 /// the spread of the directions round their mean (no aim makes that up) and falls to lose.
@@ -186,9 +216,11 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1);
-    let mut trial =
-        Trial::start_on(Arc::new(libero_model::RobotModel::builtin(&robot).unwrap())).unwrap();
-    let model = trial.model().clone();
+    let skill_kicks_per_candidate = env_weight("SKILL_KICKS", 0.0) as usize;
+    let model = Arc::new(libero_model::RobotModel::builtin(&robot).unwrap());
+    let mut trials: Vec<Trial> = (0..(env_weight("TRIALS", 1.0) as usize).max(1))
+        .map(|_| Trial::start_on(Arc::clone(&model)).unwrap())
+        .collect();
     let base = SkillParams::load(std::path::Path::new(&a[1]), &model).unwrap();
     let mut dims = Vec::new();
     for line in spec
@@ -228,9 +260,24 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(d)
     };
-    let (ax0, ay0) = (env("AX", 0.12), env("AY", -0.055));
+    let (ax0, ay0) = if skill_kicks_per_candidate > 0 {
+        (
+            base.kick.approach.ball_ahead_m,
+            base.kick.approach.ball_beside_m,
+        )
+    } else {
+        (env("AX", 0.12), env("AY", -0.055))
+    };
     let jitter = env("JITTER", 0.0);
-    let frames0: Vec<Keyframe> = base.motions[&motion].to_vec();
+    let frames0: Vec<Keyframe> = if skill_kicks_per_candidate > 0 {
+        base.kick
+            .long
+            .keyframes
+            .clone()
+            .expect("the long kick has no key frames")
+    } else {
+        base.motions[&motion].to_vec()
+    };
     // Start from the file's numbers (normalised to 0..1 in each range).
     let start: Vec<f64> = dims
         .iter()
@@ -263,16 +310,24 @@ fn main() {
             }
         }
         let mut p = base.clone();
-        p.motions.insert(motion.clone(), frames);
+        if skill_kicks_per_candidate > 0 {
+            // The skill plays the long kick's frames after its own approach.
+            p.kick.long.keyframes = Some(frames);
+            p.kick.approach.ball_ahead_m = ball[0];
+            p.kick.approach.ball_beside_m = ball[1];
+        } else {
+            p.motions.insert(motion.clone(), frames);
+        }
         (p, ball)
     };
+    let trial = &mut trials[0];
     if generations == 0 {
         // A probe: the file's motion from each placement, nothing searched.
         let mut total = 0.0;
         for k in 0..placements {
             let turn = std::f64::consts::TAU * k as f64 / placements as f64;
             let at = [ax0 + jitter * turn.cos(), ay0 + jitter * turn.sin()];
-            let (d, dir, fell) = kick(&mut trial, &base, &motion, -3.0 + 2.0 * k as f64, at);
+            let (d, dir, fell) = kick(trial, &base, &motion, -3.0 + 2.0 * k as f64, at);
             println!(
                 "kick {k}: ball at ({:.3}, {:.3}) moved {d:.2} m at {dir:+.1} deg{}",
                 at[0],
@@ -288,25 +343,59 @@ fn main() {
     let mut best = (f64::INFINITY, start);
     for g in 0..generations {
         let cands = es.ask();
-        let mut costs = Vec::new();
-        for c in &cands {
-            let (p, ball) = apply(c);
-            let mut line = String::new();
-            let mut kicks = Vec::new();
-            for k in 0..placements {
-                // With JITTER, each placement moves the ball that far round the candidate's
-                // place (a kick that only works at one spot is no use after a walking approach).
-                let turn = std::f64::consts::TAU * k as f64 / placements as f64;
-                let at = [ball[0] + jitter * turn.cos(), ball[1] + jitter * turn.sin()];
-                let (d, dir, fell) = kick(&mut trial, &p, &motion, -3.0 + 2.0 * k as f64, at);
-                line += &format!(" {d:.2}m {dir:+.0}° {}", if fell { "FELL" } else { "" });
-                kicks.push((d, dir, fell));
-            }
-            let cost = kick_cost(&kicks);
+        // Each server judges every `trials.len()`-th candidate; costs come back in order.
+        let lanes = trials.len();
+        let judged: Vec<Vec<(usize, f64, String)>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = trials
+                .iter_mut()
+                .enumerate()
+                .map(|(lane, trial)| {
+                    let (cands, apply, motion) = (&cands, &apply, &motion);
+                    scope.spawn(move || {
+                        let mut out = Vec::new();
+                        for (i, c) in cands.iter().enumerate().skip(lane).step_by(lanes) {
+                            let (p, ball) = apply(c);
+                            let kicks = if skill_kicks_per_candidate > 0 {
+                                skill_kicks(trial, &p, skill_kicks_per_candidate, 1000 + g as u64)
+                            } else {
+                                (0..placements)
+                                    .map(|k| {
+                                        // With JITTER, each placement moves the ball that far
+                                        // round the candidate's place (a kick that only works
+                                        // at one spot is no use after a walking approach).
+                                        let turn =
+                                            std::f64::consts::TAU * k as f64 / placements as f64;
+                                        let at = [
+                                            ball[0] + jitter * turn.cos(),
+                                            ball[1] + jitter * turn.sin(),
+                                        ];
+                                        kick(trial, &p, motion, -3.0 + 2.0 * k as f64, at)
+                                    })
+                                    .collect()
+                            };
+                            let line: String = kicks
+                                .iter()
+                                .map(|(d, dir, fell)| {
+                                    format!(
+                                        " {d:.2}m {dir:+.0}° {}",
+                                        if *fell { "FELL" } else { "" }
+                                    )
+                                })
+                                .collect();
+                            out.push((i, kick_cost(&kicks), line));
+                        }
+                        out
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        let mut costs = vec![f64::INFINITY; cands.len()];
+        for (i, cost, line) in judged.into_iter().flatten() {
             eprintln!("g{g} cost {cost:.3}:{line}");
-            costs.push(cost);
+            costs[i] = cost;
             if cost < best.0 {
-                best = (cost, c.clone());
+                best = (cost, cands[i].clone());
             }
         }
         es.tell(&cands, &costs);
@@ -315,6 +404,11 @@ fn main() {
             "generation {g}: best cost {:.3}, ball at ({:.3}, {:.3})",
             best.0, ball[0], ball[1]
         );
-        println!("{}", ron::ser::to_string(&p.motions[&motion]).unwrap());
+        let frames = if skill_kicks_per_candidate > 0 {
+            p.kick.long.keyframes.clone().unwrap_or_default()
+        } else {
+            p.motions[&motion].to_vec()
+        };
+        println!("{}", ron::ser::to_string(&frames).unwrap());
     }
 }

@@ -328,9 +328,11 @@ impl Trial {
             // SimSpark holds a placement only outside BeforeKickOff, and its move yaw 0
             // faces +y (simspark.md §7). It has no placement with a whole orientation: a lying
             // robot is placed standing and falls by a motion of its own (`motions.fall_front`
-            // / `fall_back`); the roll is whatever the fall leaves.
+            // / `fall_back`); the roll is whatever the fall leaves. The game clock goes back to
+            // 0 each episode: at 300 s the half ends, the mode becomes BeforeKickOff and the
+            // referee moves a robot in the other half away mid-episode (a bench kick lost).
             _ if simspark => format!(
-                "(playMode PlayOn)(agent (unum {UNUM}) (team Left) (move {x} {y} {} {}))",
+                "(time 0)(playMode PlayOn)(agent (unum {UNUM}) (team Left) (move {x} {y} {} {}))",
                 self.model.standing_torso_height + 0.01,
                 heading - 90.0
             ),
