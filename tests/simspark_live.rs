@@ -271,12 +271,12 @@ fn naos_of_other_types_get_up_with_their_own_motions() {
 }
 
 /// The NAO's key-frame long kick on the real SimSpark after its own approach, shortened for CI
-/// (the full measurement is `libero bench kick --robot nao_type0`: session 24, 18 of 20 long
-/// kicks made, 6.1-6.6 m, |direction| within 2° but once 7.7°, no fall; session 20's frames and
-/// approach kicked 3.8 m mean, min 1.6 m, and 4.2 m after session 24's approach). Before the key frames the IK
-/// kick moved the ball 0.0 m and fell. The bars are on the three together, below the bench:
-/// every kick made, none fallen, 5.8 m (the older frames, 4.2 m, and the same frames started
-/// from the walk's crouch, 5.6 m, fail it) and 10° on average.
+/// (the full measurement is `libero bench kick --robot nao_type0 --seed 1|2`: session 25, 40 of
+/// 40 long kicks made, 7.2 m mean, median 7.5 m, two scuffs of 2.5 m, |direction| 2.6° on
+/// average, no fall; session 24's frames kicked 6.1-6.6 m, median 6.3 m). Before the key frames
+/// the IK kick moved the ball 0.0 m and fell. The bars are on the three together: every kick
+/// made, none fallen, a median of 6.6 m (a scuff is one kick in twenty: the median rides it
+/// out; session 24's frames fail it) and 10° on average.
 #[test]
 fn a_nao_kicks_the_ball_several_metres_where_it_is_asked() {
     use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
@@ -305,15 +305,20 @@ fn a_nao_kicks_the_ball_several_metres_where_it_is_asked() {
             distance_m: 8.0,
         },
     ];
-    let mut distance = 0.0;
+    let mut distances = Vec::new();
     let mut error = 0.0;
     for s in setups {
         let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
         eprintln!("NAO {s:?}: {o:?}");
         assert!(o.kicked && !o.fell, "{o:?}");
-        distance += o.distance_m / setups.len() as f64;
+        distances.push(o.distance_m);
         error += o.direction_error_deg.abs() / setups.len() as f64;
     }
-    assert!(distance >= 5.8, "kicked {distance:.2} m on average");
+    distances.sort_by(f64::total_cmp);
+    let median = distances[distances.len() / 2];
+    assert!(
+        median >= 6.6,
+        "kicked {distances:.2?} m, median {median:.2} m"
+    );
     assert!(error <= 10.0, "direction off by {error:.1}° on average");
 }

@@ -339,7 +339,12 @@ fn main() {
         println!("mean {:.2} m", total / placements.max(1) as f64);
         return;
     }
-    let mut es = CmaEs::new(start.clone(), env("SIGMA", 0.15), None, 7);
+    let mut es = CmaEs::new(
+        start.clone(),
+        env("SIGMA", 0.15),
+        None,
+        env("SEED", 7.0) as u64,
+    );
     let mut best = (f64::INFINITY, start);
     for g in 0..generations {
         let cands = es.ask();
@@ -404,6 +409,15 @@ fn main() {
             "generation {g}: best cost {:.3}, ball at ({:.3}, {:.3})",
             best.0, ball[0], ball[1]
         );
+        let frames = if skill_kicks_per_candidate > 0 {
+            p.kick.long.keyframes.clone().unwrap_or_default()
+        } else {
+            p.motions[&motion].to_vec()
+        };
+        println!("{}", ron::ser::to_string(&frames).unwrap());
+        // The search's mean: a steadier pick than the luckiest single candidate.
+        let (p, ball) = apply(es.mean.as_slice());
+        println!("mean {g}: ball at ({:.3}, {:.3})", ball[0], ball[1]);
         let frames = if skill_kicks_per_candidate > 0 {
             p.kick.long.keyframes.clone().unwrap_or_default()
         } else {
