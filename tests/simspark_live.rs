@@ -270,6 +270,49 @@ fn naos_of_other_types_get_up_with_their_own_motions() {
     }
 }
 
+/// Trials outlast SimSpark's 300 s half: each placement sets the game clock back to 0, so an
+/// episode that begins at 299.5 s of game time plays on in PlayOn. Without it the half ends
+/// mid-episode, the mode becomes BeforeKickOff and the referee moves a robot standing in the
+/// other half (a bench kick was lost to it every twentieth episode or so).
+#[test]
+fn a_trial_episode_plays_on_across_the_servers_half_time() {
+    use libero_skills::Intent;
+    use libero_trial::Episode;
+    use std::sync::Mutex;
+    let _turn = live_turn();
+    let (mut trial, params) = type0_trial();
+    trial
+        .monitor()
+        .lock()
+        .unwrap()
+        .send("(time 299.5)")
+        .expect("the monitor takes commands");
+    let modes = Arc::new(Mutex::new(Vec::new()));
+    let seen = Arc::clone(&modes);
+    let script = move |w: &libero_world::World, t: f64| {
+        seen.lock().unwrap().push(w.game.play_mode_name.clone());
+        (t < 2.0).then(Intent::default)
+    };
+    trial
+        .run(
+            &params,
+            Episode {
+                start: [3.0, 0.0, 0.0],
+                lying: None,
+                settle_s: 0.5,
+                script,
+            },
+        )
+        .expect("the episode runs");
+    let modes = modes.lock().unwrap();
+    assert!(
+        modes.len() > 50 && modes.iter().all(|m| m == "PlayOn"),
+        "{} cycles, modes {:?}",
+        modes.len(),
+        modes.iter().collect::<std::collections::BTreeSet<_>>()
+    );
+}
+
 /// The NAO's key-frame long kick on the real SimSpark after its own approach, shortened for CI
 /// (the full measurement is `libero bench kick --robot nao_type0 --seed 1|2`: session 25, 40 of
 /// 40 long kicks made, 7.2 m mean, median 7.5 m, two scuffs of 2.5 m, |direction| 2.6° on
