@@ -254,12 +254,7 @@ fn main() {
             other => panic!("unknown spec line {other}"),
         });
     }
-    let env = |k: &str, d: f64| {
-        std::env::var(k)
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(d)
-    };
+    let env = env_weight;
     let (ax0, ay0) = if skill_kicks_per_candidate > 0 {
         (
             base.kick.approach.ball_ahead_m,
@@ -269,15 +264,19 @@ fn main() {
         (env("AX", 0.12), env("AY", -0.055))
     };
     let jitter = env("JITTER", 0.0);
-    let frames0: Vec<Keyframe> = if skill_kicks_per_candidate > 0 {
-        base.kick
-            .long
-            .keyframes
-            .clone()
-            .expect("the long kick has no key frames")
-    } else {
-        base.motions[&motion].to_vec()
+    // The frames searched: the long kick's in skill mode, else the named motion's.
+    let frames_of = |p: &SkillParams| -> Vec<Keyframe> {
+        if skill_kicks_per_candidate > 0 {
+            p.kick
+                .long
+                .keyframes
+                .clone()
+                .expect("the long kick has no key frames")
+        } else {
+            p.motions[&motion].to_vec()
+        }
     };
+    let frames0 = frames_of(&base);
     // Start from the file's numbers (normalised to 0..1 in each range).
     let start: Vec<f64> = dims
         .iter()
@@ -409,20 +408,10 @@ fn main() {
             "generation {g}: best cost {:.3}, ball at ({:.3}, {:.3})",
             best.0, ball[0], ball[1]
         );
-        let frames = if skill_kicks_per_candidate > 0 {
-            p.kick.long.keyframes.clone().unwrap_or_default()
-        } else {
-            p.motions[&motion].to_vec()
-        };
-        println!("{}", ron::ser::to_string(&frames).unwrap());
+        println!("{}", ron::ser::to_string(&frames_of(&p)).unwrap());
         // The search's mean: a steadier pick than the luckiest single candidate.
         let (p, ball) = apply(es.mean.as_slice());
         println!("mean {g}: ball at ({:.3}, {:.3})", ball[0], ball[1]);
-        let frames = if skill_kicks_per_candidate > 0 {
-            p.kick.long.keyframes.clone().unwrap_or_default()
-        } else {
-            p.motions[&motion].to_vec()
-        };
-        println!("{}", ron::ser::to_string(&frames).unwrap());
+        println!("{}", ron::ser::to_string(&frames_of(&p)).unwrap());
     }
 }
