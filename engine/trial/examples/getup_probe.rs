@@ -1,7 +1,9 @@
 //! Experiment helper: place the robot lying and watch the get-up.
 //! `cargo run -p libero-trial --example getup_probe -- front|back [params.ron] [heading] [roll] [x] [y]`
 //! With `SERIES=<n>` (and optionally `SEED`), runs `n` varied placements and prints one line each;
-//! with `SERIES=<n> PICK=<k>` only the k-th of those placements, traced like a single one.
+//! with `SERIES=<n> PICK=<k>` only the k-th of those placements, traced like a single one;
+//! `LIMIT` the seconds each may take (5); `REPEAT=<r>` plays each placement of a series r times (SimSpark is chaotic: one pose that
+//! fails now and then is measured by playing it again and again).
 use libero_skills::getup::Lying;
 use libero_skills::{Intent, SkillParams};
 use libero_trial::getup_bench::{self, Placement};
@@ -34,8 +36,21 @@ fn main() {
     let pick: Option<usize> = std::env::var("PICK").ok().and_then(|s| s.parse().ok());
     if let (Some(n), None) = (series, pick) {
         let mut runs = Vec::new();
-        for p in getup_bench::varied_placements(side, n, seed) {
-            let run = getup_bench::get_up(&mut trial, &params, p, 5.0).unwrap();
+        let repeat: usize = std::env::var("REPEAT")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(1);
+        // LIMIT: seconds a get-up may take (5).
+        let limit_s: f64 = std::env::var("LIMIT")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(5.0);
+        let placements = getup_bench::varied_placements(side, n, seed);
+        for p in placements
+            .iter()
+            .flat_map(|&p| std::iter::repeat_n(p, repeat))
+        {
+            let run = getup_bench::get_up(&mut trial, &params, p, limit_s).unwrap();
             let last = run.recording.samples.last().unwrap();
             println!(
                 "heading {:6.1} roll {:5.1} -> stood {:?} (end z {:.3} tilt {:.1})",
