@@ -2,12 +2,18 @@
 //! `cargo run -p libero-trial --example getup_probe -- front|back [params.ron] [heading] [roll] [x] [y]`
 //! With `SERIES=<n>` (and optionally `SEED`), runs `n` varied placements and prints one line each;
 //! with `SERIES=<n> PICK=<k>` only the k-th of those placements, traced like a single one;
-//! `LIMIT` the seconds each may take (5); `REPEAT=<r>` plays each placement of a series r times (SimSpark is chaotic: one pose that
-//! fails now and then is measured by playing it again and again).
+//! `LIMIT` the seconds each may take (5); `REPEAT=<r>` plays each placement of a series r
+//! times (SimSpark is chaotic: one pose that fails now and then is measured by playing it
+//! again and again).
 use libero_skills::getup::Lying;
 use libero_skills::{Intent, SkillParams};
 use libero_trial::getup_bench::{self, Placement};
 use libero_trial::{Episode, LyingPlacement, Trial};
+
+/// A number from the environment, if set and readable.
+fn env_number<T: std::str::FromStr>(name: &str) -> Option<T> {
+    std::env::var(name).ok().and_then(|s| s.parse().ok())
+}
 
 fn main() {
     let a: Vec<String> = std::env::args().collect();
@@ -28,23 +34,13 @@ fn main() {
         Some(p) => SkillParams::load(std::path::Path::new(p), &model).unwrap(),
         None => SkillParams::builtin(&model).unwrap(),
     };
-    let series: Option<usize> = std::env::var("SERIES").ok().and_then(|s| s.parse().ok());
-    let seed = std::env::var("SEED")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1);
-    let pick: Option<usize> = std::env::var("PICK").ok().and_then(|s| s.parse().ok());
+    let series: Option<usize> = env_number("SERIES");
+    let seed = env_number("SEED").unwrap_or(1);
+    let pick: Option<usize> = env_number("PICK");
     if let (Some(n), None) = (series, pick) {
         let mut runs = Vec::new();
-        let repeat: usize = std::env::var("REPEAT")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(1);
-        // LIMIT: seconds a get-up may take (5).
-        let limit_s: f64 = std::env::var("LIMIT")
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(5.0);
+        let repeat: usize = env_number("REPEAT").unwrap_or(1);
+        let limit_s: f64 = env_number("LIMIT").unwrap_or(5.0);
         let placements = getup_bench::varied_placements(side, n, seed);
         for p in placements
             .iter()
@@ -81,10 +77,7 @@ fn main() {
         },
     };
     println!("placement {placement:?}");
-    let every: usize = std::env::var("EVERY")
-        .ok()
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(5);
+    let every: usize = env_number("EVERY").unwrap_or(5);
     // Measured joint angles, printed with the samples: which joints reach their targets.
     let joints: Vec<usize> = std::env::var("JOINTS")
         .unwrap_or_default()
