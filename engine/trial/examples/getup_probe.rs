@@ -52,8 +52,10 @@ fn main() {
                 "heading {:6.1} roll {:5.1} -> stood {:?} (end z {:.3} tilt {:.1})",
                 p.start[2], p.lying.roll_deg, run.stood_at, last.position[2], last.tilt_deg
             );
-            // TRACE_FAIL=1: the ground truth of a failed get-up, every 5th cycle.
-            if !run.succeeded() && std::env::var("TRACE_FAIL").is_ok() {
+            // TRACE_FAIL=1: the ground truth of a failed get-up, every 5th cycle; TRACE_ALL=1: of
+            // every get-up (what a success does that a failure does not).
+            let trace_all = std::env::var("TRACE_ALL").is_ok();
+            if trace_all || (!run.succeeded() && std::env::var("TRACE_FAIL").is_ok()) {
                 for s in run.recording.samples.iter().step_by(5) {
                     println!(
                         "  t {:5.2} z {:5.3} tilt {:5.1} pitch {:6.1} roll {:6.1} {:?}",
