@@ -261,11 +261,18 @@ fn a_nao_gets_up_from_its_back() {
 
 /// The types with get-up motions of their own (`get_up_by_type`), two placements each: type 1
 /// and type 4 from the back (19/20 and 20/20 on the bench, session 21; 0/20 and 16/20 with the
-/// common motion), type 3 from the front (20/20; 0/20).
+/// common motion); type 3 from the front, damped in its squat (`getup_probe`: 120/120 over
+/// seeds 1-3; 32/40 undamped, 0/20 with the common motion), and type 1 playing type 3's front
+/// motion with its own gains (100/100 over seeds 2-3 and the placements here).
 #[test]
 fn naos_of_other_types_get_up_with_their_own_motions() {
     use libero_skills::getup::Lying;
-    for (t, side) in [(1, Lying::Back), (3, Lying::Front), (4, Lying::Back)] {
+    for (t, side) in [
+        (1, Lying::Back),
+        (1, Lying::Front),
+        (3, Lying::Front),
+        (4, Lying::Back),
+    ] {
         gets_up_from(t, side, 2);
     }
 }

@@ -62,6 +62,57 @@ pub struct GetUpMotions {
     pub front: Option<Vec<crate::getup::Keyframe>>,
     #[serde(default)]
     pub back: Option<Vec<crate::getup::Keyframe>>,
+    /// Play this other type's own `front` motion (one that stands both bodies), instead of a
+    /// copy of its frames.
+    #[serde(default)]
+    pub front_of_type: Option<u8>,
+    /// Play this other type's own `back` motion.
+    #[serde(default)]
+    pub back_of_type: Option<u8>,
+    /// This type's feedback in balanced key frames, in place of `get_up.balance` (a shared
+    /// motion damped for one body can want other gains for another).
+    #[serde(default)]
+    pub balance: Option<crate::getup::GetUpBalance>,
+}
+
+type Frames = Vec<crate::getup::Keyframe>;
+
+/// The get-up motions of type `t` for each side that is not the common one, after following
+/// `front_of_type` / `back_of_type` (one step: the named type's motion must be its own).
+fn motions_of_type(
+    by_type: &BTreeMap<u8, GetUpMotions>,
+    t: u8,
+) -> Result<[Option<&Frames>; 2], String> {
+    fn side<'a>(
+        by_type: &'a BTreeMap<u8, GetUpMotions>,
+        t: u8,
+        name: &str,
+        pick: fn(&GetUpMotions) -> (&Option<Frames>, Option<u8>),
+    ) -> Result<Option<&'a Frames>, String> {
+        let Some(own) = by_type.get(&t) else {
+            return Ok(None);
+        };
+        match pick(own) {
+            (Some(_), Some(_)) => Err(format!(
+                "get_up_by_type {t}: both `{name}` and `{name}_of_type`; give one"
+            )),
+            (Some(frames), None) => Ok(Some(frames)),
+            (None, None) => Ok(None),
+            (None, Some(other)) => by_type
+                .get(&other)
+                .and_then(|m| pick(m).0.as_ref())
+                .map(Some)
+                .ok_or_else(|| {
+                    format!(
+                        "get_up_by_type {t}.{name}_of_type: type {other} has no `{name}` motion of its own"
+                    )
+                }),
+        }
+    }
+    Ok([
+        side(by_type, t, "front", |m| (&m.front, m.front_of_type))?,
+        side(by_type, t, "back", |m| (&m.back, m.back_of_type))?,
+    ])
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -116,15 +167,19 @@ impl SkillParams {
         if let Some(walk) = model.hetero_type.and_then(|t| params.walk_by_type.get(&t)) {
             params.walk = walk.clone();
         }
-        if let Some(own) = model
-            .hetero_type
-            .and_then(|t| params.get_up_by_type.get(&t))
-        {
-            if let Some(front) = &own.front {
-                params.get_up.front = front.clone();
+        if let Some(t) = model.hetero_type {
+            // A reference that leads nowhere is reported by `validate` below, by name.
+            if let Some(balance) = params.get_up_by_type.get(&t).and_then(|m| m.balance) {
+                params.get_up.balance = balance;
             }
-            if let Some(back) = &own.back {
-                params.get_up.back = back.clone();
+            if let Ok([front, back]) = motions_of_type(&params.get_up_by_type, t) {
+                let [front, back] = [front.cloned(), back.cloned()];
+                if let Some(front) = front {
+                    params.get_up.front = front;
+                }
+                if let Some(back) = back {
+                    params.get_up.back = back;
+                }
             }
         }
         params.validate(model).map_err(|e| match e {
@@ -176,7 +231,13 @@ impl SkillParams {
             }
         }
         self.get_up.validate(model).map_err(invalid)?;
-        for (t, own) in &self.get_up_by_type {
+        for (&t, own) in &self.get_up_by_type {
+            motions_of_type(&self.get_up_by_type, t).map_err(invalid)?;
+            if let Some(balance) = &own.balance {
+                balance
+                    .validate(&format!("get_up_by_type {t}.balance"))
+                    .map_err(invalid)?;
+            }
             for (side, motion) in [("front", &own.front), ("back", &own.back)] {
                 if let Some(frames) = motion {
                     crate::getup::validate_frames(
@@ -365,19 +426,23 @@ mod tests {
         };
         let common = shipped(0);
         assert!(!common.get_up_by_type.contains_key(&0));
-        for (&t, own) in &common.get_up_by_type {
+        for &t in common.get_up_by_type.keys() {
             let theirs = shipped(t).get_up;
-            assert!(own.front.is_some() || own.back.is_some(), "type {t}");
+            let [front, back] = motions_of_type(&common.get_up_by_type, t).unwrap();
+            assert!(front.is_some() || back.is_some(), "type {t}");
             for (mine, common_one, played) in [
-                (&own.front, &common.get_up.front, &theirs.front),
-                (&own.back, &common.get_up.back, &theirs.back),
+                (front, &common.get_up.front, &theirs.front),
+                (back, &common.get_up.back, &theirs.back),
             ] {
-                assert_eq!(played, mine.as_ref().unwrap_or(common_one), "type {t}");
+                assert_eq!(played, mine.unwrap_or(common_one), "type {t}");
                 if let Some(mine) = mine {
                     assert_ne!(mine, common_one, "type {t}'s motion is the common one");
                 }
             }
         }
+        // A side named after another type plays that type's own motion.
+        assert_eq!(shipped(1).get_up.front, shipped(3).get_up.front);
+        assert_eq!(shipped(3).get_up.back, shipped(4).get_up.back);
         for t in (0..5).filter(|t| !common.get_up_by_type.contains_key(t)) {
             assert_eq!(shipped(t).get_up, common.get_up, "type {t}");
         }
@@ -392,6 +457,31 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("get_up_by_type 9"), "{e}");
+        // A side named after a type without a motion of its own there is refused by name.
+        for (entry, says) in [
+            (
+                "9: (front_of_type: Some(2)),",
+                "get_up_by_type 9.front_of_type: type 2",
+            ),
+            (
+                "9: (back_of_type: Some(3)),",
+                "get_up_by_type 9.back_of_type: type 3",
+            ),
+            (
+                "9: (front: Some([]), front_of_type: Some(3)),",
+                "both `front` and `front_of_type`",
+            ),
+        ] {
+            let broken = text.replacen(
+                "get_up_by_type: {",
+                &format!("get_up_by_type: {{ {entry}"),
+                1,
+            );
+            let e = SkillParams::from_ron("nao.ron", &broken, &nao)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(says), "{entry}: {e}");
+        }
     }
 
     #[test]

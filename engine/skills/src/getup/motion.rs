@@ -145,6 +145,20 @@ pub struct GetUpBalance {
     pub max_deg: f64,
 }
 
+impl GetUpBalance {
+    pub fn validate(&self, at: &str) -> Result<(), String> {
+        for (name, v) in [
+            ("ankle_per_deg", self.ankle_per_deg),
+            ("ankle_per_gyro", self.ankle_per_gyro),
+            ("hip_per_deg", self.hip_per_deg),
+            ("hip_per_gyro", self.hip_per_gyro),
+        ] {
+            in_range(&format!("{at}.{name}"), v, -5.0, 5.0)?;
+        }
+        in_range(&format!("{at}.max_deg"), self.max_deg, 0.0, 45.0)
+    }
+}
+
 impl Default for GetUpBalance {
     fn default() -> Self {
         Self {
@@ -248,16 +262,7 @@ impl GetUpParams {
             in_range(&format!("get_up.gains.{joint}.kp"), g.kp, 0.0, 3000.0)?;
             in_range(&format!("get_up.gains.{joint}.kd"), g.kd, 0.0, 30.0)?;
         }
-        let b = &self.balance;
-        for (name, v) in [
-            ("ankle_per_deg", b.ankle_per_deg),
-            ("ankle_per_gyro", b.ankle_per_gyro),
-            ("hip_per_deg", b.hip_per_deg),
-            ("hip_per_gyro", b.hip_per_gyro),
-        ] {
-            in_range(&format!("get_up.balance.{name}"), v, -5.0, 5.0)?;
-        }
-        in_range("get_up.balance.max_deg", b.max_deg, 0.0, 45.0)?;
+        self.balance.validate("get_up.balance")?;
         if let Some(k) = self.back_then_front_from {
             if k >= self.front.len() {
                 return Err(format!(
