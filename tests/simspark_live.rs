@@ -326,7 +326,8 @@ fn a_trial_episode_plays_on_across_the_servers_half_time() {
 /// average, no fall; session 25's frames 7.2 m with scuffs of 2.5 m one kick in ten, session
 /// 24's 6.1-6.6 m, median 6.3 m). Before the key frames the IK kick moved the ball 0.0 m and
 /// fell. The bars are on the three together: every kick made, none fallen, a median of 6.6 m
-/// (the median rides out one short kick; session 24's frames fail it) and 10° on average.
+/// (the median rides out one short kick; session 24's frames fail it), 10° on average, and
+/// the ball seen within 3 mm of where it lay as the kick starts.
 #[test]
 fn a_nao_kicks_the_ball_several_metres_where_it_is_asked() {
     use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
@@ -357,13 +358,27 @@ fn a_nao_kicks_the_ball_several_metres_where_it_is_asked() {
     ];
     let mut distances = Vec::new();
     let mut error = 0.0;
+    let mut sighting_error_m = 0.0;
     for s in setups {
         let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
         eprintln!("NAO {s:?}: {o:?}");
         assert!(o.kicked && !o.fell, "{o:?}");
         distances.push(o.distance_m);
         error += o.direction_error_deg.abs() / setups.len() as f64;
+        let (Some([tx, ty]), Some([ex, ey])) = (o.ball_in_robot_at_kick, o.ball_estimate_at_kick)
+        else {
+            panic!("no ball estimate at the kick: {o:?}");
+        };
+        sighting_error_m += (tx - ex).hypot(ty - ey) / setups.len() as f64;
     }
+    // The robot's own sighting of the ball as the kick starts, against the truth: with the
+    // camera's offset taken out (told from its feet) 1.9 mm on average over 40 bench kicks,
+    // no three in a row above 3 mm on average; without, 4.1 mm, 35 of 38 threes above 3 mm.
+    assert!(
+        sighting_error_m <= 0.003,
+        "the ball seen {:.1} mm off on average at the kick",
+        sighting_error_m * 1000.0
+    );
     distances.sort_by(f64::total_cmp);
     let median = distances[distances.len() / 2];
     assert!(

@@ -102,6 +102,11 @@ pub struct Frame {
     /// Orientation relative to the parent joint's frame, quaternion `(w, x, y, z)`.
     #[serde(default = "identity_rotation")]
     pub rotation: [f64; 4],
+    /// The part name under which the server's vision reports this frame's origin when the
+    /// robot sees itself (SimSpark: `lfoot`, the foot box's centre): a point whose place in
+    /// the camera frame the robot knows from its joints, so what the camera adds can be told.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seen_as: Option<String>,
 }
 
 fn identity_rotation() -> [f64; 4] {

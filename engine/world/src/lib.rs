@@ -22,6 +22,7 @@ pub mod ball;
 pub mod ball_launch;
 pub mod ball_motion;
 pub mod body;
+pub mod camera_calibration;
 pub mod eval_log;
 pub mod frames;
 pub mod game;
@@ -188,6 +189,14 @@ impl World {
     }
 
     fn update_ball_and_players(&mut self, percept: &Percept<'_>) {
+        // Ourselves first: our feet in view tell the camera's offset, taken out of the rest.
+        if let Some(me) = percept.vision.as_ref().and_then(|v| {
+            v.players
+                .iter()
+                .find(|p| p.team == self.game.team && p.unum == self.game.unum)
+        }) {
+            self.localizer.observe_own_parts(&me.parts);
+        }
         let vision = percept.vision.as_ref().filter(|_| self.me.localized);
         let localizer = &self.localizer;
         let to_field = |p: &nalgebra::Point3<f64>| localizer.camera_to_field(p);

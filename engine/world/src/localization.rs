@@ -10,11 +10,12 @@
 //! Everything is in the server's global field frame (+x towards the right goal), for both
 //! teams; see [`crate::World::to_own_frame`] for the team's own frame.
 
+use crate::camera_calibration::CameraCalibration;
 use crate::geometry::{heading_of, polar_to_point, rotate2, wrap_rad};
 use crate::params::LocalizationParams;
 use libero_model::kinematics::{BodyPoses, Kinematics};
 use libero_model::FieldGeometry;
-use libero_protocol::percept::{Vision, MAX_LANDMARKS};
+use libero_protocol::percept::{Seen, Vision, MAX_LANDMARKS};
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
 
 /// The agent's belief about its own torso pose.
@@ -98,6 +99,9 @@ pub struct Localizer {
     /// Torso → levelled frame (roll and pitch only).
     tilt: UnitQuaternion<f64>,
     previous_feet: Option<[Vector3<f64>; 2]>,
+    /// Frames the camera reports when the robot sees itself, by the part name it uses.
+    seen_parts: Vec<(String, usize)>,
+    calibration: CameraCalibration,
     rejected_frames: u32,
     height: Option<f64>,
     scratch: Vec<LevelledLandmark>,
@@ -115,6 +119,11 @@ impl Localizer {
             .frame_id("left_foot")
             .zip(kinematics.frame_id("right_foot"))
             .map(|(l, r)| [l, r]);
+        let seen_parts = model
+            .frames
+            .iter()
+            .filter_map(|f| Some((f.seen_as.clone()?, kinematics.frame_id(&f.name)?)))
+            .collect();
         Self {
             params,
             poses: kinematics.new_poses(),
@@ -130,6 +139,8 @@ impl Localizer {
             accel_smoothed: Vector3::z() * STANDARD_GRAVITY,
             tilt: UnitQuaternion::identity(),
             previous_feet: None,
+            seen_parts,
+            calibration: CameraCalibration::default(),
             rejected_frames: 0,
             height: None,
             scratch: Vec::with_capacity(32),
@@ -158,8 +169,38 @@ impl Localizer {
     /// The camera-frame point `p` in the global field frame, using the current pose estimate.
     pub fn camera_to_field(&self, p: &Point3<f64>) -> Option<Vector3<f64>> {
         let camera = self.poses.frame_in_torso(self.camera_frame?)?;
+        let p = self.calibration.corrected(p);
         let v = self.orientation() * (camera * p).coords + self.torso_position();
         v.iter().all(|c| c.is_finite()).then_some(v)
+    }
+
+    /// The robot's own parts in this cycle's vision (SimSpark reports the feet when they are
+    /// in view): each tells the camera's offset (`CameraCalibration`). After [`Self::update`].
+    pub fn observe_own_parts(&mut self, parts: &[Seen<'_>]) {
+        let Some(camera) = self
+            .camera_frame
+            .and_then(|c| self.poses.frame_in_torso(c))
+            .copied()
+        else {
+            return;
+        };
+        for seen in parts {
+            let Some(&(_, frame)) = self.seen_parts.iter().find(|(n, _)| n == seen.name) else {
+                continue;
+            };
+            let (Some(part), Some(at)) =
+                (self.poses.frame_in_torso(frame), polar_to_point(&seen.at))
+            else {
+                continue;
+            };
+            let part = Point3::from(part.translation.vector);
+            self.calibration.observe(&camera, &part, &at);
+        }
+    }
+
+    /// The offset the camera adds, once known [m, camera frame].
+    pub fn camera_offset(&self) -> Option<Vector3<f64>> {
+        self.calibration.offset()
     }
 
     /// One cycle. `joint_angles` are the body's current angles (model order), `dt` the time since
