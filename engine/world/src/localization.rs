@@ -198,11 +198,6 @@ impl Localizer {
         }
     }
 
-    /// The offset the camera adds, once known [m, camera frame].
-    pub fn camera_offset(&self) -> Option<Vector3<f64>> {
-        self.calibration.offset()
-    }
-
     /// One cycle. `joint_angles` are the body's current angles (model order), `dt` the time since
     /// the previous percept (0 if unknown), `upright` whether leg odometry applies.
     #[allow(clippy::too_many_arguments)]
