@@ -172,8 +172,9 @@ impl SkillParams {
             if let Some(balance) = params.get_up_by_type.get(&t).and_then(|m| m.balance) {
                 params.get_up.balance = balance;
             }
-            if let Ok([front, back]) = motions_of_type(&params.get_up_by_type, t) {
-                let [front, back] = [front.cloned(), back.cloned()];
+            if let Ok([front, back]) = motions_of_type(&params.get_up_by_type, t)
+                .map(|sides| sides.map(Option::<&Frames>::cloned))
+            {
                 if let Some(front) = front {
                     params.get_up.front = front;
                 }

@@ -177,6 +177,9 @@ impl Localizer {
     /// The robot's own parts in this cycle's vision (SimSpark reports the feet when they are
     /// in view): each tells the camera's offset (`CameraCalibration`). After [`Self::update`].
     pub fn observe_own_parts(&mut self, parts: &[Seen<'_>]) {
+        if self.seen_parts.is_empty() {
+            return;
+        }
         let Some(camera) = self
             .camera_frame
             .and_then(|c| self.poses.frame_in_torso(c))
