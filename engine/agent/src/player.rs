@@ -160,7 +160,10 @@ impl Player {
         let Some(params) = self.skill_source.current() else {
             return;
         };
-        match self.skills.set_params(&self.model, (*params).clone()) {
+        match self
+            .skills
+            .set_params(&self.model, params.for_type(&self.model))
+        {
             Ok(()) => log::debug!(
                 "agent {}: skill parameters version {generation} in use",
                 self.world.game.unum

@@ -15,7 +15,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-/// Shared by every agent of the process.
+/// Shared by every agent of the process. A file holds a robot family's parameters (every NAO
+/// type plays nao.ron): each player takes its own type's entries from it
+/// ([`SkillParams::for_type`]), so a team of mixed types shares one file and one watcher.
 #[derive(Clone)]
 pub enum SkillSource {
     /// Each player uses the parameters built into the binary for its robot.
@@ -36,20 +38,18 @@ impl SkillSource {
             )?)))
         } else {
             let text = read_params(path)?;
-            Ok(SkillSource::Fixed(Arc::new(SkillParams::from_ron(
-                &path.display().to_string(),
-                &text,
-                model,
-            )?)))
+            Ok(SkillSource::Fixed(Arc::new(
+                SkillParams::from_ron_for_family(&path.display().to_string(), &text, model)?,
+            )))
         }
     }
 
-    /// The parameters a player of `model` starts with.
+    /// The parameters a player of `model` starts with (its type's own).
     pub fn initial(&self, model: &RobotModel) -> Result<SkillParams, ParamsError> {
         match self {
             SkillSource::Builtin => SkillParams::builtin(model),
-            SkillSource::Fixed(p) => Ok((**p).clone()),
-            SkillSource::Live(live) => Ok((*live.current()).clone()),
+            SkillSource::Fixed(p) => Ok(p.for_type(model)),
+            SkillSource::Live(live) => Ok(live.current().for_type(model)),
         }
     }
 
@@ -61,6 +61,8 @@ impl SkillSource {
         }
     }
 
+    /// The file's parameters for the whole family: a player plays
+    /// [`SkillParams::for_type`] of them.
     pub fn current(&self) -> Option<Arc<SkillParams>> {
         match self {
             SkillSource::Live(live) => Some(live.current()),
@@ -110,7 +112,7 @@ impl LiveSkillParams {
     /// Load `path` (failing if it is broken now) and watch it.
     pub fn start(path: PathBuf, model: RobotModel) -> Result<Self, ParamsError> {
         let text = read_params(&path)?;
-        let params = SkillParams::from_ron(&path.display().to_string(), &text, &model)?;
+        let params = SkillParams::from_ron_for_family(&path.display().to_string(), &text, &model)?;
         let shared = Arc::new(Shared {
             current: ArcSwap::from_pointee(params),
             generation: AtomicU64::new(1),
@@ -206,7 +208,7 @@ impl Reloader {
             return;
         }
         self.last_text = text;
-        match SkillParams::from_ron(
+        match SkillParams::from_ron_for_family(
             &self.path.display().to_string(),
             &self.last_text,
             &self.model,
@@ -241,6 +243,31 @@ mod tests {
     use std::sync::Mutex;
 
     const WAIT: Duration = Duration::from_secs(5);
+
+    #[test]
+    fn one_family_file_gives_each_type_its_own_walk_and_get_ups() {
+        // A team loads nao.ron once, against its first player's model (type 0); a type-3
+        // player must still play type 3's walk and get-ups, not type 0's (it lay in a loop
+        // of the common front motion's pike in every 11 v 11 until session 28).
+        let type0 = RobotModel::builtin("nao_type0").unwrap();
+        let type3 = RobotModel::builtin("nao_type3").unwrap();
+        let path = PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../skills/params/nao.ron"
+        ));
+        let own = SkillParams::load(&path, &type3).unwrap().to_ron();
+        assert_ne!(own, SkillParams::load(&path, &type0).unwrap().to_ron());
+        for watch in [false, true] {
+            let source = SkillSource::from_file(&path, &type0, watch).unwrap();
+            assert_eq!(
+                source.initial(&type3).unwrap().to_ron(),
+                own,
+                "watch {watch}"
+            );
+            let reloaded = source.current().unwrap().for_type(&type3);
+            assert_eq!(reloaded.to_ron(), own, "watch {watch}");
+        }
+    }
 
     fn setup() -> (tempfile::TempDir, PathBuf, LiveSkillParams, String) {
         let model = RobotModel::builtin("T1").unwrap();

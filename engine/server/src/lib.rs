@@ -5,6 +5,7 @@
 //! [`process`] starts either headless on free loopback ports and stops exactly the process it
 //! started; [`monitor`] speaks the monitor port (kick-off, ball placement, game state).
 
+pub mod fouls;
 pub mod monitor;
 mod ports;
 pub mod process;
@@ -13,6 +14,7 @@ pub mod simspark;
 pub mod simspark_scene;
 pub mod venv;
 
+pub use fouls::{Foul, FoulTally, FOUL_KINDS};
 pub use monitor::{GameSnapshot, Monitor};
 pub use process::{Rules, ServerKind, ServerOptions, ServerProcess};
 pub use simspark::{ensure_simspark_installed, SimSparkInstall};

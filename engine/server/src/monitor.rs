@@ -1,5 +1,6 @@
 //! The monitor port: game state out, referee-like commands in.
 
+use crate::fouls::FoulTally;
 use crate::simspark_scene::{RobotTruth, SceneTracker};
 use libero_model::ServerKind;
 use libero_protocol::frame::{encode_frame, FrameReader};
@@ -53,6 +54,8 @@ pub struct GameSnapshot {
     /// SimSpark only: every robot's torso (ground truth; empty on rcssservermj, whose agents
     /// get their own ground truth in the percept).
     pub robots: Vec<RobotTruth>,
+    /// SimSpark only: the fouls its referee called so far.
+    pub fouls: FoulTally,
 }
 
 /// A monitor connection. A thread drains the stream (the server blocks on a full socket) and
@@ -226,6 +229,7 @@ pub fn parse_game_state(frame: &str) -> Option<GameSnapshot> {
         frames: 0,
         ball: None,
         robots: Vec::new(),
+        fouls: FoulTally::default(),
     })
 }
 
@@ -275,6 +279,12 @@ pub fn update_simspark_state(
             }
             Some("score_right") => {
                 state.score_right = number().map_or(state.score_right, |v| v as u32)
+            }
+            Some("foul") => {
+                let Some(numbers) = item.tail_numbers::<4>() else {
+                    continue;
+                };
+                state.fouls.record(state.time, numbers);
             }
             Some("play_mode") => {
                 if let Some(index) = number() {
@@ -353,6 +363,12 @@ mod tests {
         ));
         assert_eq!(state.play_mode, "PlayOn");
         assert!(!update_simspark_state("garbage (", &mut modes, &mut state));
+        // A foul item is counted at the frame's time, once (the server sends each once).
+        let foul = "((time 20)(foul 3 4 1 6))(RDS 0 1)((nd))";
+        assert!(update_simspark_state(foul, &mut modes, &mut state));
+        assert!(update_simspark_state(foul, &mut modes, &mut state));
+        assert_eq!(state.fouls.counts(true), vec![(6, "incapable", 1)]);
+        assert_eq!(state.fouls.recent(true).next().map(|f| f.time), Some(20.0));
         // A header naming the modes differently is believed over the built-in table.
         let renamed = "((play_modes A B C D)(play_mode 3))(RSG 0 1)()";
         assert!(update_simspark_state(renamed, &mut modes, &mut state));

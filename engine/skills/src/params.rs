@@ -162,27 +162,19 @@ impl SkillParams {
     /// Parse and check a parameter file for `model`; a walk of `walk_by_type` (a get-up of
     /// `get_up_by_type`) for the model's type takes the place of `walk` (`get_up`).
     pub fn from_ron(file: &str, text: &str, model: &RobotModel) -> Result<Self, ParamsError> {
-        let mut params: SkillParams =
+        Ok(Self::from_ron_for_family(file, text, model)?.for_type(model))
+    }
+
+    /// Parse and check a parameter file shared by a robot family (every NAO type plays
+    /// nao.ron), its per-type entries not yet applied: each player takes its own with
+    /// [`SkillParams::for_type`]. Checked against `model` (the joints all types share).
+    pub fn from_ron_for_family(
+        file: &str,
+        text: &str,
+        model: &RobotModel,
+    ) -> Result<Self, ParamsError> {
+        let params: SkillParams =
             libero_model::location::parse_ron(file, text).map_err(ParamsError::Syntax)?;
-        if let Some(walk) = model.hetero_type.and_then(|t| params.walk_by_type.get(&t)) {
-            params.walk = walk.clone();
-        }
-        if let Some(t) = model.hetero_type {
-            // A reference that leads nowhere is reported by `validate` below, by name.
-            if let Some(balance) = params.get_up_by_type.get(&t).and_then(|m| m.balance) {
-                params.get_up.balance = balance;
-            }
-            if let Ok([front, back]) = motions_of_type(&params.get_up_by_type, t)
-                .map(|sides| sides.map(Option::<&Frames>::cloned))
-            {
-                if let Some(front) = front {
-                    params.get_up.front = front;
-                }
-                if let Some(back) = back {
-                    params.get_up.back = back;
-                }
-            }
-        }
         params.validate(model).map_err(|e| match e {
             ParamsError::Invalid { message, .. } => ParamsError::Invalid {
                 file: file.into(),
@@ -191,6 +183,32 @@ impl SkillParams {
             other => other,
         })?;
         Ok(params)
+    }
+
+    /// These parameters as a robot of `model`'s type plays them: its `walk_by_type` entry
+    /// takes the place of `walk`, its `get_up_by_type` motions and balance those of `get_up`
+    /// (a robot without a type, or a type without entries, plays the common ones).
+    pub fn for_type(&self, model: &RobotModel) -> Self {
+        let mut params = self.clone();
+        let Some(t) = model.hetero_type else {
+            return params;
+        };
+        if let Some(walk) = self.walk_by_type.get(&t) {
+            params.walk = walk.clone();
+        }
+        if let Some(balance) = self.get_up_by_type.get(&t).and_then(|m| m.balance) {
+            params.get_up.balance = balance;
+        }
+        // A reference that leads nowhere was refused by `validate`, by name.
+        if let Ok([front, back]) = motions_of_type(&self.get_up_by_type, t) {
+            if let Some(front) = front {
+                params.get_up.front = front.clone();
+            }
+            if let Some(back) = back {
+                params.get_up.back = back.clone();
+            }
+        }
+        params
     }
 
     /// Read and check a parameter file.
@@ -220,7 +238,8 @@ impl SkillParams {
             walk.validate()
                 .map_err(|e| invalid(format!("walk_by_type {t}: {e}")))?;
         }
-        for joint in self.walk.leg_gains.keys() {
+        let walks = std::iter::once(&self.walk).chain(self.walk_by_type.values());
+        for joint in walks.flat_map(|walk| walk.leg_gains.keys()) {
             let on_both_legs = ["left", "right"]
                 .iter()
                 .all(|side| model.joint_id(&format!("{side}_{joint}")).is_some());

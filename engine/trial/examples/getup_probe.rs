@@ -15,6 +15,22 @@ fn env_number<T: std::str::FromStr>(name: &str) -> Option<T> {
     std::env::var(name).ok().and_then(|s| s.parse().ok())
 }
 
+/// The fouls the referee has called on our side so far, by kind.
+fn fouls_called(trial: &Trial) -> Vec<(&'static str, u32)> {
+    let monitor = trial.monitor();
+    let Ok(monitor) = monitor.lock() else {
+        return Vec::new();
+    };
+    let mut out: Vec<(&'static str, u32)> = Vec::new();
+    for (_, kind, n) in monitor.snapshot().fouls.counts(true) {
+        match out.iter_mut().find(|o| o.0 == kind) {
+            Some(o) => o.1 += n,
+            None => out.push((kind, n)),
+        }
+    }
+    out
+}
+
 fn main() {
     let a: Vec<String> = std::env::args().collect();
     let num = |i: usize, d: f64| a.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
@@ -46,11 +62,28 @@ fn main() {
             .iter()
             .flat_map(|&p| std::iter::repeat_n(p, repeat))
         {
+            let fouls_before = fouls_called(&trial);
             let run = getup_bench::get_up(&mut trial, &params, p, limit_s).unwrap();
             let last = run.recording.samples.last().unwrap();
+            // The referee's calls during the get-up (SimSpark freezes a limb for 1 s on a
+            // self-collision).
+            let called: Vec<String> = fouls_called(&trial)
+                .into_iter()
+                .map(|(kind, n)| {
+                    let before = fouls_before.iter().find(|b| b.0 == kind).map_or(0, |b| b.1);
+                    (kind, n - before)
+                })
+                .filter(|(_, n)| *n > 0)
+                .map(|(kind, n)| format!(" {kind} x{n}"))
+                .collect();
             println!(
-                "heading {:6.1} roll {:5.1} -> stood {:?} (end z {:.3} tilt {:.1})",
-                p.start[2], p.lying.roll_deg, run.stood_at, last.position[2], last.tilt_deg
+                "heading {:6.1} roll {:5.1} -> stood {:?} (end z {:.3} tilt {:.1}){}",
+                p.start[2],
+                p.lying.roll_deg,
+                run.stood_at,
+                last.position[2],
+                last.tilt_deg,
+                called.concat()
             );
             // TRACE_FAIL=1: the ground truth of a failed get-up, every 5th cycle; TRACE_ALL=1: of
             // every get-up (what a success does that a failure does not).

@@ -312,6 +312,8 @@ fn play_half(
     // The score from the game state, not the observer's count of its changes.
     figures[0].goals = snapshot.score_left;
     figures[1].goals = snapshot.score_right;
+    figures[0].set_fouls(&snapshot.fouls, true);
+    figures[1].set_fouls(&snapshot.fouls, false);
     let [left, right] = names;
     Ok(HalfReport {
         half,
@@ -408,7 +410,28 @@ fn print_summary(report: &MatchReport) {
             f.missed_cycles
         );
         for (unum, at, down) in &f.slow_falls {
-            println!("    {name} {unum} fell at {at:.1} s and lay {down:.1} s");
+            // The referee's calls on that player while it lay (SimSpark: a robot lying 15 s is
+            // removed to the touchline, which reads as a long lie here).
+            let called: Vec<String> = f
+                .recent_fouls
+                .iter()
+                .filter(|c| c.unum == *unum && c.time_s >= at - 1.0 && c.time_s <= at + down + 1.0)
+                .map(|c| format!("{} at {:.1} s", c.kind, c.time_s))
+                .collect();
+            let called = if called.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", called.join(", "))
+            };
+            println!("    {name} {unum} fell at {at:.1} s and lay {down:.1} s{called}");
+        }
+        if !f.fouls.is_empty() {
+            let fouls: Vec<String> = f
+                .fouls
+                .iter()
+                .map(|c| format!("{} {} x{}", c.unum, c.kind, c.count))
+                .collect();
+            println!("    {name} fouls: {}", fouls.join(", "));
         }
     }
 }

@@ -97,6 +97,10 @@ pub struct Figures {
     pub most_down_share: f64,
     /// Robots moved by the referee (a rule breach, or lying too long).
     pub relocations: u32,
+    /// The fouls the referee called (SimSpark reports them; rcssservermj does not): counts by
+    /// player and kind, and the most recent with their play time.
+    pub fouls: Vec<FoulCount>,
+    pub recent_fouls: Vec<FoulAt>,
     /// Mean distance between the agents' self-estimates and the truth during play-on [m].
     pub localization_error_m: Option<f64>,
     /// Seconds from each own kick-off's start to the first touch (play on).
@@ -125,6 +129,19 @@ impl Figures {
         self.longest_down_s = self.longest_down_s.max(other.longest_down_s);
         self.most_down_share = self.most_down_share.max(other.most_down_share);
         self.relocations += other.relocations;
+        for foul in &other.fouls {
+            match self
+                .fouls
+                .iter_mut()
+                .find(|f| f.unum == foul.unum && f.kind == foul.kind)
+            {
+                Some(f) => f.count += foul.count,
+                None => self.fouls.push(foul.clone()),
+            }
+        }
+        self.fouls
+            .sort_by(|a, b| (a.unum, &a.kind).cmp(&(b.unum, &b.kind)));
+        self.recent_fouls.extend_from_slice(&other.recent_fouls);
         self.kick_off_times_s
             .extend_from_slice(&other.kick_off_times_s);
         self.missed_cycles += other.missed_cycles;
@@ -133,6 +150,45 @@ impl Figures {
         self.localization_n += other.localization_n;
         self.localization_error_m =
             (self.localization_n > 0).then(|| self.localization_sum / self.localization_n as f64);
+    }
+}
+
+/// How often the referee called one kind of foul on one player.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FoulCount {
+    pub unum: u32,
+    pub kind: String,
+    pub count: u32,
+}
+
+/// One foul: when, on whom, what.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FoulAt {
+    pub time_s: f64,
+    pub unum: u32,
+    pub kind: String,
+}
+
+impl Figures {
+    /// The fouls the server's referee called on this side (`left`) so far.
+    pub fn set_fouls(&mut self, tally: &libero_server::FoulTally, left: bool) {
+        self.fouls = tally
+            .counts(left)
+            .into_iter()
+            .map(|(unum, kind, count)| FoulCount {
+                unum,
+                kind: kind.to_string(),
+                count,
+            })
+            .collect();
+        self.recent_fouls = tally
+            .recent(left)
+            .map(|f| FoulAt {
+                time_s: f.time,
+                unum: f.unum,
+                kind: f.kind.to_string(),
+            })
+            .collect();
     }
 }
 

@@ -199,3 +199,41 @@ fn a_nao_that_got_up_and_walks_crouched_is_up_again() {
     assert_eq!(left.falls_slow_to_stand, 0, "{left:?}");
     assert!((left.longest_down_s - 3.0).abs() < 0.1, "{left:?}");
 }
+
+#[test]
+fn the_referees_fouls_are_the_sides_own_and_add_up_over_halves() {
+    let mut tally = libero_server::FoulTally::default();
+    tally.record(10.0, [0.0, 4.0, 1.0, 6.0]);
+    tally.record(11.0, [1.0, 6.0, 2.0, 9.0]);
+    let mut first = Figures::default();
+    first.set_fouls(&tally, true);
+    assert_eq!(
+        first.fouls,
+        vec![FoulCount {
+            unum: 6,
+            kind: "incapable".into(),
+            count: 1
+        }]
+    );
+    let mut second = Figures::default();
+    tally.record(50.0, [2.0, 4.0, 1.0, 6.0]);
+    tally.record(51.0, [3.0, 7.0, 1.0, 2.0]);
+    second.set_fouls(&tally, true);
+    first.add(&second);
+    assert_eq!(
+        first.fouls,
+        vec![
+            FoulCount {
+                unum: 2,
+                kind: "self-collision".into(),
+                count: 1
+            },
+            FoulCount {
+                unum: 6,
+                kind: "incapable".into(),
+                count: 3
+            },
+        ]
+    );
+    assert_eq!(first.recent_fouls.len(), 4);
+}
