@@ -21,9 +21,10 @@ pub mod team;
 pub mod view;
 
 pub use decide::{Decider, LibrarySource, StandAndBeam, TreeDecider};
+pub use libero_model::team_types::{check_simspark_types, simspark_team_types};
 pub use player::{Player, TruthFeed};
 pub use run::{run_agent, AgentConfig, AgentError, JoinGate};
 pub use skill_source::{LiveSkillParams, ParamsEvent, SkillSource};
 pub use stats::AgentStats;
-pub use team::{simspark_team_types, Team};
+pub use team::Team;
 pub use view::{AgentView, DecisionView, TreeShape, ViewSlot};

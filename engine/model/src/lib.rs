@@ -9,6 +9,7 @@ pub mod field;
 pub mod kinematics;
 pub mod location;
 pub mod robot;
+pub mod team_types;
 
 pub use field::{FieldError, FieldGeometry, Landmark};
 pub use location::{Located, SourceLocation};

@@ -94,6 +94,11 @@ fn the_simspark_set_is_a_team_of_its_own() {
     let strategy = strategy_of(&nao);
     assert_eq!(strategy.field().name(), "simspark");
     assert_eq!(strategy.formations.len(), 4);
+    // A NAO type for each of the 11, a mix the server admits.
+    let types = strategy.team.as_ref().and_then(|t| t.robot_types.clone());
+    let types = types.expect("the NAO team names its robot types");
+    assert_eq!(types.len(), 11);
+    libero_model::team_types::check_simspark_types(&types).unwrap();
     for name in strategy.formations.keys() {
         for unum in 1..=11u8 {
             let at = strategy

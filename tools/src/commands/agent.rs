@@ -1,6 +1,8 @@
 //! `libero agent`: one player.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, robot_for_unum, DataArgs, LogArgs};
+use super::setup::{
+    build_player, ctrl_c_flag, load_robot, robot_for_unum, team_robot_types, DataArgs, LogArgs,
+};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{run_agent, AgentConfig};
@@ -33,11 +35,13 @@ pub struct AgentArgs {
 }
 
 pub fn run(args: AgentArgs) -> CliResult {
+    let server = load_robot(&robot_for_unum(&args.robot, args.unum, None), None)?.server;
+    let source = args.data.source_for(server)?;
+    let types = team_robot_types(&source);
     let model = load_robot(
-        &robot_for_unum(&args.robot, args.unum),
+        &robot_for_unum(&args.robot, args.unum, types.as_deref()),
         args.robot_file.as_ref(),
     )?;
-    let source = args.data.source_for(model.server)?;
     let skills = args.data.skills(&model)?;
     let mut player = build_player(&model, &args.team, args.unum, &source, &skills)?;
     args.log.attach(&mut player, &args.team, args.unum, false)?;

@@ -30,16 +30,30 @@ pub fn proc_status_mb(field: &str) -> Option<f64> {
 }
 
 /// The built-in model a player with `unum` runs when the command line names `robot`: `NAO`
-/// stands for the SimSpark type the team rules give that number (goalkeeper and most field
-/// players type 0, the rest spread so a full team is legal); any other name is itself.
-pub fn robot_for_unum(robot: &str, unum: u32) -> String {
+/// stands for the SimSpark type the team file's `robot_types` gives that number (`types`), or
+/// the default mix's (goalkeeper and most field players type 0, the rest spread so a full
+/// team is legal); any other name is itself.
+pub fn robot_for_unum(robot: &str, unum: u32, types: Option<&[u8]>) -> String {
     if robot.eq_ignore_ascii_case("nao") {
-        let types = libero_agent::simspark_team_types(11);
-        let index = (unum.max(1) as usize - 1) % types.len();
-        format!("nao_type{}", types[index])
+        let index = unum.max(1) as usize - 1;
+        let default = libero_agent::simspark_team_types(11);
+        let t = types
+            .and_then(|types| types.get(index))
+            .copied()
+            .unwrap_or(default[index % default.len()]);
+        format!("nao_type{t}")
     } else {
         robot.to_string()
     }
+}
+
+/// The NAO type of each uniform number, when the team file (`team.ron`) names them.
+pub fn team_robot_types(source: &LibrarySource) -> Option<Vec<u8>> {
+    libero_strategy::strategy_of(&source.current())
+        .team
+        .as_ref()?
+        .robot_types
+        .clone()
 }
 
 /// A robot model by built-in name or from a RON file.
@@ -194,5 +208,28 @@ impl LogArgs {
             .map_err(|e| format!("cannot create the evaluation log {}: {e}", path.display()))?;
         player.log_to(logger, self.trace);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_nao_player_plays_the_type_its_team_file_names() {
+        let types = [0, 3, 4];
+        assert_eq!(robot_for_unum("NAO", 2, Some(&types)), "nao_type3");
+        assert_eq!(robot_for_unum("nao", 3, Some(&types)), "nao_type4");
+        // Beyond the list, and without one: the default mix.
+        let default = libero_agent::simspark_team_types(11);
+        assert_eq!(
+            robot_for_unum("NAO", 9, Some(&types)),
+            format!("nao_type{}", default[8])
+        );
+        assert_eq!(
+            robot_for_unum("NAO", 2, None),
+            format!("nao_type{}", default[1])
+        );
+        assert_eq!(robot_for_unum("T1", 2, Some(&types)), "T1");
     }
 }

@@ -1,6 +1,8 @@
 //! `libero team`: N players in one process.
 
-use super::setup::{build_player, ctrl_c_flag, load_robot, robot_for_unum, DataArgs, LogArgs};
+use super::setup::{
+    build_player, ctrl_c_flag, load_robot, robot_for_unum, team_robot_types, DataArgs, LogArgs,
+};
 use super::CliResult;
 use clap::Args;
 use libero_agent::{AgentConfig, Team};
@@ -32,7 +34,7 @@ pub struct TeamArgs {
 
 pub fn run(args: TeamArgs) -> CliResult {
     let shutdown = ctrl_c_flag();
-    let server = load_robot(&robot_for_unum(&args.robot, 1), None)?.server;
+    let server = load_robot(&robot_for_unum(&args.robot, 1, None), None)?.server;
     let source = args.data.source_for(server)?;
     let view =
         super::view::LiveView::start(&args.view, super::view::field_of(&source), &args.data)?;
@@ -40,12 +42,13 @@ pub fn run(args: TeamArgs) -> CliResult {
         view.watch_library(&args.team, &source);
     }
     let mut players = Vec::new();
+    let types = team_robot_types(&source);
     // One parameter file (and watcher) for the whole team, checked against the first robot:
     // every NAO type shares nao.ron.
     let mut skills = None;
     let simspark = args.robot.eq_ignore_ascii_case("nao");
     for unum in 1..=args.players {
-        let name = robot_for_unum(&args.robot, unum);
+        let name = robot_for_unum(&args.robot, unum, types.as_deref());
         let model = load_robot(&name, None)?;
         if simspark && model.server != ServerKind::SimSpark {
             return Err(format!("{name} is not a SimSpark robot").into());

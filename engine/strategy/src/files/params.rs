@@ -373,6 +373,9 @@ pub struct TeamParams {
     /// before that kick-off the team then takes its own or its kick-off-theirs positions.
     /// Unknown: the positions that are legal either way.
     pub left_kicks_off_first: Option<bool>,
+    /// SimSpark: the heterogeneous NAO type of each uniform number (1 first), checked
+    /// against the server's rules for a team's mix; none: the default mix.
+    pub robot_types: Option<Vec<u8>>,
 }
 
 pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
@@ -414,6 +417,9 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
                 }
                 None => None,
             });
+    let robot_types = fields
+        .take("robot_types")
+        .and_then(|n| robot_types(decoder, n));
     fields.finish(
         decoder,
         &[
@@ -422,6 +428,7 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
             "field_player_tree",
             "formations",
             "first_kick_off",
+            "robot_types",
         ],
     );
     let mut formations = BTreeMap::new();
@@ -467,6 +474,7 @@ pub fn parse_team(decoder: &mut Decoder, node: &Node) -> Option<TeamParams> {
         field_player_tree: field_player_tree?,
         left_kicks_off_first,
         formations,
+        robot_types,
     })
 }
 
@@ -474,4 +482,27 @@ fn named(decoder: &mut Decoder, fields: &mut Fields, key: &str) -> Option<(Strin
     fields
         .require(decoder, key)
         .and_then(|n| decoder.string(n).map(|s| (s, n.span)))
+}
+
+/// `robot_types: [0, 3, …]`: a NAO type (0–4) per uniform number, a mix the server admits.
+fn robot_types(decoder: &mut Decoder, node: &Node) -> Option<Vec<u8>> {
+    let items = decoder.list(node)?;
+    let mut types = Vec::with_capacity(items.len());
+    for item in items {
+        types.push(decoder.int_in(item, 0, 4)? as u8);
+    }
+    if let Err(rule) = libero_model::team_types::check_simspark_types(&types) {
+        decoder
+            .error(
+                "invalid-value",
+                node.span,
+                format!("SimSpark would refuse this team: {rule}"),
+            )
+            .hint = Some(
+            "at most 7 robots of a type, any two types together at most 9, at most 11 players"
+                .into(),
+        );
+        return None;
+    }
+    Some(types)
 }

@@ -493,7 +493,7 @@ impl Progress {
 fn down_and_up(server: ServerKind, players: u32) -> Result<DownAndUp, Box<dyn std::error::Error>> {
     let mut lowest = f64::INFINITY;
     for unum in 1..=players {
-        let model = load_robot(&robot_for_unum(side::team_robot(server), unum), None)?;
+        let model = load_robot(&robot_for_unum(side::team_robot(server), unum, None), None)?;
         lowest = lowest.min(model.standing_torso_height);
     }
     Ok(DownAndUp::of_standing(lowest))

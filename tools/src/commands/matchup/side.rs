@@ -1,7 +1,9 @@
 //! The two teams of a match: ours (in this process, from a folder of files) or an external one
 //! (a start command).
 
-use super::super::setup::{build_player, load_robot, robot_for_unum, DataArgs, LogArgs};
+use super::super::setup::{
+    build_player, load_robot, robot_for_unum, team_robot_types, DataArgs, LogArgs,
+};
 use super::observer::RobotSample;
 use libero_agent::{AgentConfig, AgentStats, Team};
 use libero_server::{RobotTruth, ServerKind};
@@ -65,11 +67,12 @@ impl TeamSetup {
                     view.watch_library(&self.name, &source);
                 }
                 let robot = team_robot(server);
+                let types = team_robot_types(&source);
                 // One skill parameter file for the team (every NAO type shares nao.ron).
                 let mut skills = None;
                 let mut team = Vec::new();
                 for unum in 1..=players {
-                    let model = load_robot(&robot_for_unum(robot, unum), None)?;
+                    let model = load_robot(&robot_for_unum(robot, unum, types.as_deref()), None)?;
                     let skills = match &skills {
                         Some(s) => s,
                         None => skills.insert(data.skills(&model)?),
