@@ -19,15 +19,19 @@ fn simspark_server() -> ServerProcess {
     .expect("building (first use) and starting SimSpark")
 }
 
-/// A full NAO team (types by the team rules) running the shipped trees on SimSpark's
-/// formations, joined one by one.
+/// A full NAO team (the types its team file names, a legal mix) running the shipped trees on
+/// SimSpark's formations, joined one by one.
 fn nao_team(port: u16, team: &str, n: u32) -> (Team, Arc<AtomicBool>) {
     let dirs = [
         build::default_data_dirs()[0].clone(),
         build::default_formations_dir(ServerKind::SimSpark),
     ];
     let source = build::load_library(&dirs, false).expect("the shipped SimSpark files load");
-    let types = simspark_team_types(n as usize);
+    let types = libero_strategy::strategy_of(&source.current())
+        .team
+        .as_ref()
+        .and_then(|t| t.robot_types.clone())
+        .unwrap_or_else(|| simspark_team_types(n as usize));
     let players = (1..=n)
         .map(|unum| {
             let name = format!("nao_type{}", types[unum as usize - 1]);
