@@ -2,7 +2,7 @@
 
 use crate::dribble::DribbleParams;
 use crate::getup::GetUpParams;
-use crate::kick::KickParams;
+use crate::kick::{KickMotion, KickParams, KickSpread};
 use crate::save::SaveParams;
 use crate::walk::WalkParams;
 use libero_model::RobotModel;
@@ -53,6 +53,51 @@ pub struct SkillParams {
     /// one.
     #[serde(default)]
     pub get_up_by_type: BTreeMap<u8, GetUpMotions>,
+    /// The kick of particular heterogeneous types, in place of `kick`'s for a robot of that
+    /// type: wider hips and longer legs want another weight shift and another place.
+    #[serde(default)]
+    pub kick_by_type: BTreeMap<u8, KickOfType>,
+}
+
+/// A type's own kick; what is not given is `kick`'s.
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+pub struct KickOfType {
+    #[serde(default)]
+    pub long: Option<KickMotion>,
+    #[serde(default)]
+    pub short: Option<KickMotion>,
+    /// Where the approach leaves the ball before the kicking foot (`approach.ball_ahead_m`,
+    /// `approach.ball_beside_m`) [m].
+    #[serde(default)]
+    pub ball_ahead_m: Option<f64>,
+    #[serde(default)]
+    pub ball_beside_m: Option<f64>,
+    /// What `libero bench kick --robot nao_typeN` measured of this type's long kick.
+    #[serde(default)]
+    pub measured: Option<KickSpread>,
+}
+
+impl KickOfType {
+    /// `common` as a robot of this type kicks.
+    fn applied_to(&self, common: &KickParams) -> KickParams {
+        let mut kick = common.clone();
+        if let Some(long) = &self.long {
+            kick.long = long.clone();
+        }
+        if let Some(short) = &self.short {
+            kick.short = short.clone();
+        }
+        if let Some(ahead) = self.ball_ahead_m {
+            kick.approach.ball_ahead_m = ahead;
+        }
+        if let Some(beside) = self.ball_beside_m {
+            kick.approach.ball_beside_m = beside;
+        }
+        if let Some(measured) = self.measured {
+            kick.measured = measured;
+        }
+        kick
+    }
 }
 
 /// A type's own get-up motions; one not given is `get_up`'s.
@@ -196,6 +241,9 @@ impl SkillParams {
         if let Some(walk) = self.walk_by_type.get(&t) {
             params.walk = walk.clone();
         }
+        if let Some(kick) = self.kick_by_type.get(&t) {
+            params.kick = kick.applied_to(&self.kick);
+        }
         if let Some(balance) = self.get_up_by_type.get(&t).and_then(|m| m.balance) {
             params.get_up.balance = balance;
         }
@@ -270,41 +318,16 @@ impl SkillParams {
                 }
             }
         }
-        self.kick.validate().map_err(invalid)?;
         self.dribble.validate().map_err(invalid)?;
         self.save.validate(model).map_err(invalid)?;
         for (name, frames) in &self.motions {
             crate::getup::validate_frames(&format!("motions.{name}"), frames, model, None)
                 .map_err(invalid)?;
         }
-        for (name, motion) in [("short", &self.kick.short), ("long", &self.kick.long)] {
-            if let Some(frames) = &motion.keyframes {
-                crate::getup::validate_frames(
-                    &format!("kick.{name}.keyframes"),
-                    frames,
-                    model,
-                    None,
-                )
-                .map_err(invalid)?;
-                let mirrored: Vec<_> = frames.iter().map(crate::save::mirror_frame).collect();
-                crate::getup::validate_frames(
-                    &format!("kick.{name}.keyframes (mirrored for the left foot)"),
-                    &mirrored,
-                    model,
-                    None,
-                )
-                .map_err(invalid)?;
-            }
-            for joint in motion.swing_gains.keys() {
-                if model.joint_id(&format!("left_{joint}")).is_none()
-                    || model.joint_id(&format!("right_{joint}")).is_none()
-                {
-                    return Err(invalid(format!(
-                        "kick: swing_gains: `{joint}` is not a leg joint of {} (`left_{joint}` and `right_{joint}` must exist)",
-                        model.name
-                    )));
-                }
-            }
+        validate_kick(&self.kick, "kick", model).map_err(invalid)?;
+        for (t, own) in &self.kick_by_type {
+            let label = format!("kick_by_type {t}");
+            validate_kick(&own.applied_to(&self.kick), &label, model).map_err(invalid)?;
         }
         Ok(())
     }
@@ -342,6 +365,47 @@ impl SkillParams {
         }
         Ok(pose)
     }
+}
+
+/// A kick's numbers, its key frames (and their mirror for the left foot) and its swing gains'
+/// joints; errors start with `label` (`kick`, `kick_by_type 3`).
+fn validate_kick(kick: &KickParams, label: &str, model: &RobotModel) -> Result<(), String> {
+    let named = |e: String| {
+        if label == "kick" {
+            e
+        } else {
+            format!("{label}: {e}")
+        }
+    };
+    kick.validate().map_err(named)?;
+    for (name, motion) in [("short", &kick.short), ("long", &kick.long)] {
+        if let Some(frames) = &motion.keyframes {
+            crate::getup::validate_frames(
+                &format!("{label}.{name}.keyframes"),
+                frames,
+                model,
+                None,
+            )?;
+            let mirrored: Vec<_> = frames.iter().map(crate::save::mirror_frame).collect();
+            crate::getup::validate_frames(
+                &format!("{label}.{name}.keyframes (mirrored for the left foot)"),
+                &mirrored,
+                model,
+                None,
+            )?;
+        }
+        for joint in motion.swing_gains.keys() {
+            if model.joint_id(&format!("left_{joint}")).is_none()
+                || model.joint_id(&format!("right_{joint}")).is_none()
+            {
+                return Err(format!(
+                    "{label}: swing_gains: `{joint}` is not a leg joint of {} (`left_{joint}` and `right_{joint}` must exist)",
+                    model.name
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -435,6 +499,43 @@ mod tests {
         let p = SkillParams::builtin(&t1).unwrap();
         let again = SkillParams::from_ron("again.ron", &p.to_ron(), &t1).unwrap();
         assert_eq!(p, again);
+    }
+
+    #[test]
+    fn a_type_with_its_own_kick_plays_it_and_the_others_play_the_common_one() {
+        let text = include_str!("../params/nao.ron");
+        let model = |t: u8| RobotModel::builtin(&format!("NAO_type{t}")).unwrap();
+        // Type 3's own place and measured spread; the motions stay the common ones.
+        let own = "kick_by_type: { 3: (ball_ahead_m: Some(0.15), measured: Some(KickSpread(direction_sd_deg: 9.0, distance_m: 3.0, distance_sd_m: 1.0))),";
+        let text3 = if text.contains("kick_by_type: {") {
+            text.replacen("kick_by_type: {", own, 1)
+        } else {
+            text.replacen(
+                "get_up_by_type: {",
+                &format!("{own} }},\n    get_up_by_type: {{"),
+                1,
+            )
+        };
+        let family = SkillParams::from_ron_for_family("nao.ron", &text3, &model(0)).unwrap();
+        let three = family.for_type(&model(3)).kick;
+        assert_eq!(three.approach.ball_ahead_m, 0.15);
+        assert_eq!(three.measured.distance_m, 3.0);
+        assert_eq!(three.long, family.kick.long);
+        let zero = family.for_type(&model(0)).kick;
+        assert_eq!(
+            zero.approach.ball_ahead_m,
+            family.kick.approach.ball_ahead_m
+        );
+        assert_eq!(zero.measured, family.kick.measured);
+        // A type's kick that breaks a rule is refused by name.
+        let broken = text3.replacen("ball_ahead_m: Some(0.15)", "ball_ahead_m: Some(5.0)", 1);
+        let e = SkillParams::from_ron_for_family("nao.ron", &broken, &model(0))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("kick_by_type 3") && e.contains("ball_ahead_m"),
+            "{e}"
+        );
     }
 
     #[test]
