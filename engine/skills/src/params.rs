@@ -505,30 +505,39 @@ mod tests {
     fn a_type_with_its_own_kick_plays_it_and_the_others_play_the_common_one() {
         let text = include_str!("../params/nao.ron");
         let model = |t: u8| RobotModel::builtin(&format!("NAO_type{t}")).unwrap();
-        // Type 3's own place and measured spread; the motions stay the common ones.
-        let own = "kick_by_type: { 3: (ball_ahead_m: Some(0.15), measured: Some(KickSpread(direction_sd_deg: 9.0, distance_m: 3.0, distance_sd_m: 1.0))),";
-        let text3 = if text.contains("kick_by_type: {") {
-            text.replacen("kick_by_type: {", own, 1)
-        } else {
-            text.replacen(
-                "get_up_by_type: {",
-                &format!("{own} }},\n    get_up_by_type: {{"),
-                1,
-            )
-        };
-        let family = SkillParams::from_ron_for_family("nao.ron", &text3, &model(0)).unwrap();
-        let three = family.for_type(&model(3)).kick;
-        assert_eq!(three.approach.ball_ahead_m, 0.15);
-        assert_eq!(three.measured.distance_m, 3.0);
-        assert_eq!(three.long, family.kick.long);
-        let zero = family.for_type(&model(0)).kick;
-        assert_eq!(
-            zero.approach.ball_ahead_m,
-            family.kick.approach.ball_ahead_m
-        );
-        assert_eq!(zero.measured, family.kick.measured);
+        let family = SkillParams::from_ron_for_family("nao.ron", text, &model(0)).unwrap();
+        assert!(!family.kick_by_type.is_empty());
+        for t in 0..5 {
+            let played = family.for_type(&model(t)).kick;
+            let Some(own) = family.kick_by_type.get(&t) else {
+                assert_eq!(played, family.kick, "type {t}");
+                continue;
+            };
+            if let Some(long) = &own.long {
+                assert_eq!(&played.long, long, "type {t}");
+                assert_ne!(
+                    long, &family.kick.long,
+                    "type {t}'s long kick is the common one"
+                );
+            }
+            let short = own.short.as_ref().unwrap_or(&family.kick.short);
+            assert_eq!(&played.short, short, "type {t}");
+            let ahead = own
+                .ball_ahead_m
+                .unwrap_or(family.kick.approach.ball_ahead_m);
+            assert_eq!(played.approach.ball_ahead_m, ahead, "type {t}");
+            assert_eq!(
+                played.measured,
+                own.measured.unwrap_or(family.kick.measured),
+                "type {t}"
+            );
+        }
         // A type's kick that breaks a rule is refused by name.
-        let broken = text3.replacen("ball_ahead_m: Some(0.15)", "ball_ahead_m: Some(5.0)", 1);
+        let at = text
+            .find("ball_ahead_m: Some(")
+            .expect("a type's own kicking place");
+        let end = at + text[at..].find(')').unwrap();
+        let broken = format!("{}ball_ahead_m: Some(5.0{}", &text[..at], &text[end..]);
         let e = SkillParams::from_ron_for_family("nao.ron", &broken, &model(0))
             .unwrap_err()
             .to_string();
