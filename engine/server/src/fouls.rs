@@ -33,7 +33,7 @@ pub struct Foul {
     pub unum: u32,
     pub kind: &'static str,
     /// Play time [s] of the last call that belonged to this foul.
-    pub last_call: f64,
+    last_call: f64,
 }
 
 /// Fouls so far: exact counts, and the last [`RECENT_FOULS`] with their times.
@@ -68,18 +68,12 @@ impl FoulTally {
         // The referee calls a foul again every cycle it goes on (an incapable robot held in
         // the air: ~25 calls in 0.5 s) and once per limb (a self-collision of an arm and a leg:
         // two): calls of one kind on one player within `SAME_FOUL_S` are one foul.
-        let again = self.recent.iter().rev().any(|f| {
-            f.left == left
-                && f.unum == unum_slot as u32
-                && f.kind == FOUL_KINDS[kind]
-                && (time - f.last_call).abs() <= SAME_FOUL_S
-        });
-        if again {
-            if let Some(f) = self.recent.iter_mut().rev().find(|f| {
+        let latest =
+            self.recent.iter_mut().rev().find(|f| {
                 f.left == left && f.unum == unum_slot as u32 && f.kind == FOUL_KINDS[kind]
-            }) {
-                f.last_call = time;
-            }
+            });
+        if let Some(f) = latest.filter(|f| (time - f.last_call).abs() <= SAME_FOUL_S) {
+            f.last_call = time;
             return true;
         }
         self.counts[usize::from(!left)][unum_slot][kind] += 1;

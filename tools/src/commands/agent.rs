@@ -35,13 +35,14 @@ pub struct AgentArgs {
 }
 
 pub fn run(args: AgentArgs) -> CliResult {
-    let server = load_robot(&robot_for_unum(&args.robot, args.unum, None), None)?.server;
-    let source = args.data.source_for(server)?;
-    let types = team_robot_types(&source);
-    let model = load_robot(
-        &robot_for_unum(&args.robot, args.unum, types.as_deref()),
-        args.robot_file.as_ref(),
-    )?;
+    let name = robot_for_unum(&args.robot, args.unum, None);
+    let mut model = load_robot(&name, args.robot_file.as_ref())?;
+    let source = args.data.source_for(model.server)?;
+    // A NAO plays the type its team file names for its number (a robot file is taken as is).
+    let named = robot_for_unum(&args.robot, args.unum, team_robot_types(&source).as_deref());
+    if args.robot_file.is_none() && named != name {
+        model = load_robot(&named, None)?;
+    }
     let skills = args.data.skills(&model)?;
     let mut player = build_player(&model, &args.team, args.unum, &source, &skills)?;
     args.log.attach(&mut player, &args.team, args.unum, false)?;
