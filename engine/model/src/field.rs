@@ -11,6 +11,7 @@ use std::path::Path;
 
 /// One point landmark (flag, goal post top, line junction) as the server names it in vision.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Landmark {
     pub name: String,
     /// True position (x, y, z) [m]. Where the server places a marker somewhere else than the
@@ -20,6 +21,7 @@ pub struct Landmark {
 
 /// A straight field line segment on the ground, from `begin` to `end` (x, y) [m].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FieldLine {
     pub begin: [f64; 2],
     pub end: [f64; 2],
@@ -27,6 +29,7 @@ pub struct FieldLine {
 
 /// A rectangular box in front of a goal, given as depth from the goal line × total width.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct AreaSize {
     pub depth: f64,
     pub width: f64,
@@ -34,6 +37,7 @@ pub struct AreaSize {
 
 /// A complete field description.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FieldGeometry {
     pub name: String,
     /// Goal line to goal line (x extent) [m].

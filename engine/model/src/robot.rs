@@ -44,6 +44,7 @@ impl std::str::FromStr for ServerKind {
 /// SimSpark has no motor gains (velocity effectors only); there `kp` is the dimensionless gain `g`
 /// of the client-side servo `v = g·(θ* − θ̂)/Δt` (simspark.md §8.2) and `kd` is 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Gains {
     /// N·m/rad
     pub kp: f64,
@@ -56,6 +57,7 @@ pub type JointId = usize;
 
 /// One actuated hinge joint.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Joint {
     /// Our name for the joint, e.g. `left_hip_pitch`.
     pub name: String,
@@ -92,6 +94,7 @@ pub struct Joint {
 
 /// A named point of interest fixed to a joint's link (camera, soles, vision markers).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Frame {
     pub name: String,
     /// The joint whose link carries this frame; `None` means the torso.
@@ -120,6 +123,7 @@ fn is_unit_quaternion(q: &[f64; 4]) -> bool {
 
 /// A complete robot description.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RobotModel {
     /// Model name as sent in `init` (rcssservermj) or as known to SimSpark, e.g. `T1`, `NAO`.
     pub name: String,

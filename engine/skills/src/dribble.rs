@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 /// The dribble's numbers (`dribble:` in the skill parameter file).
 #[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct DribbleParams {
     /// Lined up, the torso is this far behind the ball centre [m] ...
     pub behind_m: f64,

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 
 /// Head scanning.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct LookAround {
     pub yaw_amplitude_deg: f64,
     pub period_s: f64,
@@ -19,6 +20,7 @@ pub struct LookAround {
 
 /// Every tunable number of the skills for one robot.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct SkillParams {
     /// The robot model these numbers are for.
     pub robot: String,
@@ -61,6 +63,7 @@ pub struct SkillParams {
 
 /// A type's own kick; what is not given is `kick`'s.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct KickOfType {
     #[serde(default)]
     pub long: Option<KickMotion>,
@@ -102,6 +105,7 @@ impl KickOfType {
 
 /// A type's own get-up motions; one not given is `get_up`'s.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct GetUpMotions {
     #[serde(default)]
     pub front: Option<Vec<crate::getup::Keyframe>>,

@@ -7,6 +7,7 @@ use std::path::Path;
 
 /// Self-localization filter settings (see `params/world.ron` for the meaning of each).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LocalizationParams {
     pub vision_sigma_floor: f64,
     pub vision_sigma_per_metre: f64,
@@ -30,6 +31,7 @@ pub struct LocalizationParams {
 
 /// Ball tracking and motion-model settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BallParams {
     pub fit_window_s: f64,
     pub new_track_gate: f64,
@@ -56,6 +58,7 @@ pub struct BallParams {
 /// Deceleration = constant + quadratic_drag·v² for a ball travelling at `angle_deg` to a
 /// field axis.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DirectionalFriction {
     pub angle_deg: f64,
     /// Constant part while sliding [m/s²].
@@ -68,6 +71,7 @@ pub struct DirectionalFriction {
 
 /// Other players' settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PlayerParams {
     pub fallen_head_height: f64,
     pub forget_after_s: f64,
@@ -75,12 +79,14 @@ pub struct PlayerParams {
 
 /// The robot's own body.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BodyParams {
     /// The accelerometer must say lying for this long [s] before the robot counts as fallen.
     pub lying_confirm_s: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct WorldParams {
     pub body: BodyParams,
     pub localization: LocalizationParams,

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 /// One key frame: reach `pose` (joint name → deg; unlisted joints keep the previous frame's
 /// angle) in `duration_s`, moving smoothly from the previous frame.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct Keyframe {
     pub duration_s: f64,
     pub pose: BTreeMap<String, f64>,
@@ -137,6 +138,7 @@ impl Condition {
 /// Balance feedback in key frames with `balance_pitch_deg`: offsets added to both ankle and
 /// hip pitch targets [deg per deg of pitch error, deg per deg/s of pitch rate].
 #[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct GetUpBalance {
     pub ankle_per_deg: f64,
     pub ankle_per_gyro: f64,
@@ -173,6 +175,7 @@ impl Default for GetUpBalance {
 
 /// Waiting for a lying body to stop moving before a get-up starts.
 #[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct RestUntilStill {
     /// Still: the gyro's rate below this [deg/s] ...
     pub rate_below_deg_s: f64,
@@ -182,6 +185,7 @@ pub struct RestUntilStill {
 
 /// Standing still after a get-up until the torso is upright and calm.
 #[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct SettleAfter {
     /// Settled: pitch and roll within this of upright [deg] ...
     pub upright_within_deg: f64,
@@ -204,6 +208,7 @@ impl SettleAfter {
 
 /// The get-up motions.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct GetUpParams {
     /// Lying face down.
     pub front: Vec<Keyframe>,

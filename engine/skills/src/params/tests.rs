@@ -37,11 +37,38 @@ fn unknown_joints_and_out_of_range_angles_are_rejected() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("outside its limits"), "{e}");
-    let text = shipped.replacen("step_period_s: ", "step_period_s: 5.0, _was: ", 1);
+    let at = shipped.find("step_period_s: ").unwrap() + "step_period_s: ".len();
+    let end = at + shipped[at..].find(',').unwrap();
+    let text = format!("{}5.0{}", &shipped[..at], &shipped[end..]);
     let e = SkillParams::from_ron("x.ron", &text, &t1)
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("x.ron:"), "{e}");
+    assert!(e.contains("walk.step_period_s = 5 is outside"), "{e}");
+}
+
+/// A misspelt optional field is an error, not silently the default (an old binary read a file
+/// with `kick_by_type` in it without a word).
+#[test]
+fn unknown_fields_are_named_with_their_place() {
+    let t1 = RobotModel::builtin("T1").unwrap();
+    let shipped = include_str!("../../params/t1.ron");
+    let text = shipped.replacen("step_period_s: ", "step_perod_s: 0.3, step_period_s: ", 1);
+    let e = SkillParams::from_ron("x.ron", &text, &t1)
+        .unwrap_err()
+        .to_string();
+    let line = 1 + shipped[..shipped.find("step_period_s: ").unwrap()]
+        .matches('\n')
+        .count();
+    assert!(e.starts_with(&format!("x.ron:{line}:")), "{e}");
+    assert!(e.contains("step_perod_s"), "{e}");
+    let nao = RobotModel::builtin("nao_type3").unwrap();
+    let shipped = include_str!("../../params/nao.ron");
+    let text = shipped.replacen("kick_by_type:", "kick_by_typ:", 1);
+    let e = SkillParams::from_ron("nao.ron", &text, &nao)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("kick_by_typ"), "{e}");
 }
 
 #[test]

@@ -58,6 +58,7 @@ impl SaveMotions {
 
 /// The save motions.
 #[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct SaveParams {
     /// Dive to the left.
     #[serde(default)]

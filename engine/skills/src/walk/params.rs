@@ -6,6 +6,7 @@ use std::collections::BTreeMap;
 
 /// Gait geometry, timing, command limits and the balance loop of the omnidirectional walk.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct WalkParams {
     /// Duration of one step (one foot's swing) [s].
     pub step_period_s: f64,
@@ -56,6 +57,7 @@ pub struct WalkParams {
 /// The IMU feedback loop. Torso pitch/roll come from the low-passed accelerometer, rates from
 /// the gyro; both are in the torso frame.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct BalanceParams {
     /// Ankle pitch correction per deg/s of pitch rate [deg per deg/s] (ankle strategy).
     pub ankle_pitch_per_gyro: f64,
@@ -85,6 +87,7 @@ pub struct BalanceParams {
 
 /// Turning a target pose into walk commands.
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct WalkToParams {
     /// Forward speed per metre of distance to the target [1/s].
     pub gain_per_s: f64,
