@@ -1,6 +1,7 @@
 //! What a scenario file says, after validation, and one concrete run drawn from it.
 
 use libero_model::FieldGeometry;
+use libero_world::ball_launch::PATH_EXPONENT;
 use libero_world::params::BallParams;
 
 /// A number that is either fixed or drawn uniformly from a range for every run.
@@ -284,14 +285,6 @@ pub fn aimed_heading(ball: &BallParams, from: [f64; 2], target: [f64; 2], speed:
         _ => h,
     }
 }
-
-/// The shape of the curve: measured on the real server, 40 shots from 6–12 m at an empty goal
-/// (seeds 2 and 5 of `keeper_shots` without the keeper), where the ball crossed the goal line
-/// against where the path says: exponent 2 (a parabola, which fits the table's chord directions
-/// over the first 3 m, the sliding phase) mean |error| 0.37 m, max 0.69 m; 2.5: 0.22 / 0.48 m;
-/// 3: 0.11 / 0.36 m; 3.5: 0.06 / 0.31 m; 4: 0.11 / 0.26 m. Most of the curve comes late, in the
-/// slow roll.
-const PATH_EXPONENT: f64 = 3.5;
 
 /// Largest and step of the aim-off searched by [`aimed_heading`] [deg].
 const AIM_OFF_MAX_DEG: f64 = 30.0;

@@ -15,6 +15,8 @@ pub struct KickGeometry {
     pub long_kick_from_m: f64,
     pub short_roll_out_m: f64,
     pub long_roll_out_m: f64,
+    pub short_curve_share: f64,
+    pub long_curve_share: f64,
 }
 
 impl Default for KickGeometry {
@@ -26,6 +28,8 @@ impl Default for KickGeometry {
             long_kick_from_m: 3.0,
             short_roll_out_m: 0.0,
             long_roll_out_m: 0.0,
+            short_curve_share: 1.0,
+            long_curve_share: 1.0,
         }
     }
 }
@@ -38,16 +42,19 @@ impl KickGeometry {
             long_kick_from_m: k.long_kick_from_m,
             short_roll_out_m: k.short.roll_out_m,
             long_roll_out_m: k.long.roll_out_m,
+            short_curve_share: k.short.curve_share,
+            long_curve_share: k.long.curve_share,
         }
     }
 
-    /// The field heading [deg] to launch a kick of `distance_m` at so that it comes to rest on
-    /// the line `field_deg` (what [`aimed_for_curve`] asks of the skill).
+    /// The field heading [deg] to launch a kick at so that its curving roll crosses the line
+    /// `field_deg` `distance_m` away, or comes to rest on it when it rolls no farther (what
+    /// [`aimed_for_curve`] asks of the skill).
     pub fn launch_heading_deg(&self, field_deg: f64, distance_m: f64, world: &World) -> f64 {
-        let roll_out = if distance_m >= self.long_kick_from_m {
-            self.long_roll_out_m
+        let (roll_out, curve_share) = if distance_m >= self.long_kick_from_m {
+            (self.long_roll_out_m, self.long_curve_share)
         } else {
-            self.short_roll_out_m
+            (self.short_roll_out_m, self.short_curve_share)
         };
         if roll_out <= 0.0 {
             return field_deg;
@@ -56,14 +63,16 @@ impl KickGeometry {
             .params
             .ball
             .launch_table
-            .launch_heading_for(field_deg.to_radians(), roll_out)
+            .launch_heading_through(field_deg.to_radians(), roll_out, distance_m, curve_share)
             .to_degrees()
     }
 }
 
 /// The robot-frame direction to launch the ball in so that, curving as the server's ball does,
-/// it comes to rest on the line `direction_deg` (robot frame) asks for. Uses the agent's own
-/// heading estimate: the curve depends on the direction in the field.
+/// its roll crosses the line `direction_deg` (robot frame) asks for `distance_m` away (where a
+/// shot crosses the goal line, where a pass meets its receiver), or comes to rest on it when it
+/// rolls no farther. Uses the agent's own heading estimate: the curve depends on the direction
+/// in the field.
 pub fn aimed_for_curve(direction_deg: f64, distance_m: f64, world: &World, k: &KickParams) -> f64 {
     let m = if distance_m >= k.long_kick_from_m {
         &k.long
@@ -78,7 +87,12 @@ pub fn aimed_for_curve(direction_deg: f64, distance_m: f64, world: &World, k: &K
         .params
         .ball
         .launch_table
-        .launch_heading_for(field_deg.to_radians(), m.roll_out_m)
+        .launch_heading_through(
+            field_deg.to_radians(),
+            m.roll_out_m,
+            distance_m,
+            m.curve_share,
+        )
         .to_degrees();
     libero_world::geometry::wrap_deg(direction_deg + launch_deg - field_deg)
 }

@@ -236,8 +236,9 @@ fn kicks_are_aimed_off_for_the_curve_and_straight_without_a_roll_out() {
     let mut world = World::new(&t1, "t", 1);
     world.me.yaw_deg = 20.0;
     // Kicking 5° left of the heading: 25° in the field, between an axis and a diagonal
-    // (45°), towards which the ball curves; so the launch is aimed to the right.
-    let long = p.kick.long_kick_from_m + 1.0;
+    // (45°), towards which the ball curves; so the launch is aimed to the right. A target
+    // beyond the roll: its stop point on the line.
+    let long = p.kick.long.roll_out_m + 5.0;
     let aimed = aimed_for_curve(5.0, long, &world, &p.kick);
     assert!(aimed < 5.0 - 1.0, "{aimed}");
     let launch = (world.me.yaw_deg + aimed).to_radians();
@@ -247,6 +248,12 @@ fn kicks_are_aimed_off_for_the_curve_and_straight_without_a_roll_out() {
     assert!((stop.y.atan2(stop.x).to_degrees() - 25.0).abs() < 0.2);
     // Along a diagonal the ball runs straight.
     assert!((aimed_for_curve(25.0, long, &world, &p.kick) - 25.0).abs() < 0.3);
+    // A shot at a goal line 9 m away crosses it before most of the curve: aimed off less.
+    let through = aimed_for_curve(5.0, 9.0, &world, &p.kick);
+    assert!(
+        through < 5.0 && through > aimed + 0.5,
+        "{through} vs {aimed}"
+    );
     let mut straight = p.kick.clone();
     straight.long.roll_out_m = 0.0;
     assert_eq!(aimed_for_curve(5.0, long, &world, &straight), 5.0);
