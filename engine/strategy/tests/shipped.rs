@@ -171,7 +171,8 @@ fn field_player_beams_to_its_kick_off_position_before_kick_off() {
 }
 
 #[test]
-fn striker_shoots_near_the_goal_kicks_long_from_far_and_crosses_from_the_goal_line() {
+fn striker_shoots_near_the_goal_dribbles_beyond_its_reach_kicks_long_from_far_and_crosses_from_the_goal_line(
+) {
     // 8 m out in front of an empty goal: the shot's chance clears the threshold.
     let w = world(
         5,
@@ -192,6 +193,25 @@ fn striker_shoots_near_the_goal_kicks_long_from_far_and_crosses_from_the_goal_li
     let crossing_y = 1.0 + 8.5 * direction_deg.to_radians().tan();
     assert!(crossing_y.abs() < 1.83, "aims at y = {crossing_y:.2}");
     assert!(distance_m > 7.0, "a long kick: {distance_m}");
+
+    // 13.5 m out in front of the goal: beyond the long kick's reach (11.1 +- 1.3 m), so no
+    // good shot; walk the ball towards the goal (a long kick from here stopped short, and the
+    // striker had no time to reach the ball again: NOTES.md, session 29).
+    let w = world(
+        5,
+        Own::new(13.6, 1.0),
+        Own::new(14.0, 1.0),
+        PlayMode::PlayOn,
+    );
+    let intent = tick("FieldPlayer", &w, &mut PlayerMemory::default());
+    let BodyIntent::Dribble { direction_deg, .. } = intent.body else {
+        panic!("no dribble: {:?}", intent.body)
+    };
+    let towards = (0.0f64 - 1.0).atan2(27.5 - 14.0).to_degrees();
+    assert!(
+        (direction_deg - towards).abs() < 3.0,
+        "{direction_deg} vs {towards}"
+    );
 
     // 30 m out: no shot; on a field with nobody else a long kick straight on, where the pass
     // utility sends it (formations/pass.ron: progress decides when no race is won), the
