@@ -18,8 +18,7 @@ use libero_server::{Monitor, ServerOptions, ServerProcess};
 use libero_world::params::BallParams;
 use libero_world::WorldParams;
 
-/// A torso higher than this stands (walking height is about 0.6 m, lying below 0.3 m).
-const STANDING_TORSO_Z_M: f64 = 0.5;
+use crate::summary::{FallCounter, STANDING_TORSO_Z_M};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -337,6 +336,7 @@ impl Arena {
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
         let mut last_in_play = None;
+        let mut falls = FallCounter::new(self.robots.len());
         // Whether play had stopped when the run ended (a goal, the ball out, a free kick).
         let mut play_stopped;
         let (verdict, ended) = loop {
@@ -353,6 +353,9 @@ impl Arena {
                 )));
             }
             let t = now - t0;
+            for (i, r) in self.robots.iter().enumerate() {
+                falls.observe(i, r.stats.truth_position().map(|p| p[2]));
+            }
             let s = self.monitor().snapshot();
             let o = Observation {
                 t,
@@ -403,11 +406,17 @@ impl Arena {
                     .into_iter()
                     .find(|(u, _)| *u == unum)
                     .map_or(from, |(_, p)| p);
+                let falls = self
+                    .robots
+                    .iter()
+                    .position(|r| r.ours == ours && r.unum == unum)
+                    .map_or(0, |i| falls.of(i));
                 RobotTravel {
                     ours,
                     unum,
                     from,
                     to,
+                    falls,
                 }
             })
             .collect();

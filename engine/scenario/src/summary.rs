@@ -12,13 +12,50 @@ pub struct LaunchMeasure {
     pub mean_speed_m_s: f64,
 }
 
-/// Where a robot was at the launch and at the end of the run (ground truth).
+/// A torso higher than this stands (walking height is about 0.6 m, lying below 0.3 m).
+pub(crate) const STANDING_TORSO_Z_M: f64 = 0.5;
+/// A torso lower than this has fallen (counted again once it stood up).
+const FALLEN_TORSO_Z_M: f64 = 0.35;
+
+/// Falls per robot from its torso's ground-truth height.
+pub(crate) struct FallCounter {
+    down: Vec<bool>,
+    falls: Vec<u32>,
+}
+
+impl FallCounter {
+    pub(crate) fn new(robots: usize) -> Self {
+        Self {
+            down: vec![false; robots],
+            falls: vec![0; robots],
+        }
+    }
+
+    /// Robot `i`'s torso height now [m], if known.
+    pub(crate) fn observe(&mut self, i: usize, torso_z: Option<f64>) {
+        let Some(z) = torso_z else { return };
+        if !self.down[i] && z < FALLEN_TORSO_Z_M {
+            self.down[i] = true;
+            self.falls[i] += 1;
+        } else if z > STANDING_TORSO_Z_M {
+            self.down[i] = false;
+        }
+    }
+
+    pub(crate) fn of(&self, i: usize) -> u32 {
+        self.falls[i]
+    }
+}
+
+/// Where a robot was at the launch and at the end of the run, and how often it fell on the
+/// way (ground truth).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RobotTravel {
     pub ours: bool,
     pub unum: u32,
     pub from: [f64; 2],
     pub to: [f64; 2],
+    pub falls: u32,
 }
 
 impl RobotTravel {
@@ -205,7 +242,12 @@ impl Summary {
             .iter()
             .map(|m| {
                 let side = if m.ours { "our" } else { "their" };
-                format!("{side} {} {:.1} m", m.unum, m.distance_m())
+                let falls = match m.falls {
+                    0 => String::new(),
+                    1 => " (1 fall)".to_string(),
+                    n => format!(" ({n} falls)"),
+                };
+                format!("{side} {} {:.1} m{falls}", m.unum, m.distance_m())
             })
             .collect();
         if !moved.is_empty() {
@@ -284,5 +326,20 @@ impl Summary {
             per_run,
         };
         serde_json::to_string_pretty(&doc).unwrap_or_else(|e| format!("{{\"error\": \"{e}\"}}"))
+    }
+}
+
+#[cfg(test)]
+mod fall_tests {
+    use super::FallCounter;
+
+    #[test]
+    fn a_fall_counts_once_until_the_robot_stands_again() {
+        let mut c = FallCounter::new(2);
+        for z in [0.6, 0.4, 0.2, 0.1, 0.3, 0.45, 0.2, 0.6, 0.55, 0.3, 0.6] {
+            c.observe(0, Some(z));
+        }
+        c.observe(1, None);
+        assert_eq!((c.of(0), c.of(1)), (2, 0));
     }
 }

@@ -7,6 +7,8 @@
 pub mod dribble;
 mod gains;
 pub mod getup;
+#[cfg(test)]
+mod handover_tests;
 pub mod intent;
 pub mod kick;
 mod motion;
@@ -536,7 +538,15 @@ impl Skills {
 
     fn switch_to(&mut self, active: ActiveSkill, now: f64) {
         if active != self.active {
-            self.start_blend(now);
+            // Walking and dribbling are one gait, one pose after the other: a blend from the
+            // pose sent last held the legs back mid-stride for `settle_s` at every hand-over
+            // between the walk to the ball and the dribble (or the kick's approach), and the
+            // robot at speed pitched forward over its feet (striker_alone, 16 falls in 20
+            // runs from 11-14 m out; NOTES.md session 29).
+            let one_gait = |s: ActiveSkill| matches!(s, ActiveSkill::Walk | ActiveSkill::Dribble);
+            if !(one_gait(active) && one_gait(self.active)) {
+                self.start_blend(now);
+            }
             self.active = active;
         }
     }
