@@ -133,6 +133,13 @@ fn shipped_series(name: &str, runs: usize, seed: u64) -> (libero_scenario::Summa
     (summary, lines)
 }
 
+/// How many of `runs` runs of the shipped `scenarios/<name>.ron` succeeded, and the run lines.
+fn shipped_successes(name: &str, runs: usize, seed: u64) -> (usize, String) {
+    let (summary, lines) = shipped_series(name, runs, seed);
+    let n = summary.runs.iter().filter(|r| r.success).count();
+    (n, lines.join("\n"))
+}
+
 /// The shipped keeper scenario, shortened for CI: our keeper keeps most shots out. With the
 /// keeper of the previous wave (walking to its formation spot) about 1 in 20 was kept out;
 /// this one keeps 80-85 % (NOTES.md), so 6 of 10 fails only when the keeper breaks.
@@ -141,12 +148,7 @@ fn the_keeper_keeps_most_shots_out() {
     let _turn = live_turn();
     let (summary, lines) = shipped_series("keeper_shots", 10, 11);
     let kept = summary.runs.iter().filter(|r| r.success).count();
-    assert!(
-        kept >= 6,
-        "kept out {kept} of {}:\n{}",
-        summary.runs.len(),
-        lines.join("\n")
-    );
+    assert!(kept >= 6, "kept out {kept} of 10:\n{}", lines.join("\n"));
     // Every shot was a real one: launched towards the goal.
     for r in &summary.runs {
         assert!(
@@ -273,12 +275,10 @@ fn shot_file_edits_change_where_the_striker_shoots() {
 #[test]
 fn the_striker_walks_round_a_wall_to_the_ball() {
     let _turn = live_turn();
-    let (summary, lines) = shipped_series("striker_wall", 4, 7);
-    let clean = summary.runs.iter().filter(|r| r.success).count();
+    let (clean, runs) = shipped_successes("striker_wall", 4, 7);
     assert!(
         clean >= 2,
-        "reached and kicked without a collision in {clean} of 4:\n{}",
-        lines.join("\n")
+        "reached and kicked without a collision in {clean} of 4:\n{runs}"
     );
 }
 
@@ -290,14 +290,8 @@ fn the_striker_walks_round_a_wall_to_the_ball() {
 #[test]
 fn the_striker_alone_scores() {
     let _turn = live_turn();
-    let (summary, lines) = shipped_series("striker_alone", 10, 12);
-    let goals = summary.runs.iter().filter(|r| r.success).count();
-    assert!(
-        goals >= 1,
-        "scored in {goals} of {} runs:\n{}",
-        summary.runs.len(),
-        lines.join("\n")
-    );
+    let (goals, runs) = shipped_successes("striker_alone", 10, 12);
+    assert!(goals >= 1, "scored in {goals} of 10 runs:\n{runs}");
 }
 
 /// The shipped dribble scenario, shortened for CI: from midfield, where no shot is on, the
@@ -307,14 +301,8 @@ fn the_striker_alone_scores() {
 #[test]
 fn the_field_player_plays_the_ball_on_from_midfield() {
     let _turn = live_turn();
-    let (summary, lines) = shipped_series("dribble", 6, 3);
-    let moved = summary.runs.iter().filter(|r| r.success).count();
-    assert!(
-        moved >= 2,
-        "the ball got 5 m in {moved} of {} runs:\n{}",
-        summary.runs.len(),
-        lines.join("\n")
-    );
+    let (moved, runs) = shipped_successes("dribble", 6, 3);
+    assert!(moved >= 2, "the ball got 5 m in {moved} of 6 runs:\n{runs}");
 }
 
 /// The shipped pass scenario, shortened for CI: player 7 passes long where the pass utility
@@ -325,12 +313,9 @@ fn the_field_player_plays_the_ball_on_from_midfield() {
 #[test]
 fn a_pass_reaches_the_free_teammate_where_it_stops() {
     let _turn = live_turn();
-    let (summary, lines) = shipped_series("pass", 5, 2);
-    let received = summary.runs.iter().filter(|r| r.success).count();
+    let (received, runs) = shipped_successes("pass", 5, 2);
     assert!(
         received >= 2,
-        "received where it stopped in {received} of {} runs:\n{}",
-        summary.runs.len(),
-        lines.join("\n")
+        "received where it stopped in {received} of 5 runs:\n{runs}"
     );
 }
