@@ -74,25 +74,11 @@ impl KickGeometry {
 /// rolls no farther. Uses the agent's own heading estimate: the curve depends on the direction
 /// in the field.
 pub fn aimed_for_curve(direction_deg: f64, distance_m: f64, world: &World, k: &KickParams) -> f64 {
-    let m = if distance_m >= k.long_kick_from_m {
-        &k.long
-    } else {
-        &k.short
-    };
-    if m.roll_out_m <= 0.0 {
+    let field_deg = world.me.yaw_deg + direction_deg;
+    let launch_deg = KickGeometry::of(k).launch_heading_deg(field_deg, distance_m, world);
+    if launch_deg == field_deg {
+        // No roll-out: the direction as asked, not a round trip through the field frame.
         return direction_deg;
     }
-    let field_deg = world.me.yaw_deg + direction_deg;
-    let launch_deg = world
-        .params
-        .ball
-        .launch_table
-        .launch_heading_through(
-            field_deg.to_radians(),
-            m.roll_out_m,
-            distance_m,
-            m.curve_share,
-        )
-        .to_degrees();
     libero_world::geometry::wrap_deg(direction_deg + launch_deg - field_deg)
 }

@@ -1,5 +1,12 @@
 use super::*;
 
+/// The error a parameter text is refused with.
+fn refused(name: &str, text: &str, model: &RobotModel) -> String {
+    SkillParams::from_ron(name, text, model)
+        .unwrap_err()
+        .to_string()
+}
+
 #[test]
 fn builtin_t1_parameters_load() {
     let t1 = RobotModel::builtin("T1").unwrap();
@@ -14,9 +21,7 @@ fn walk_gains_must_name_joints_on_both_legs_of_the_model() {
     let shipped = include_str!("../../params/t1.ron");
     let text = shipped.replacen("\"hip_yaw\": Gains", "\"hip_yaw_pitch\": Gains", 1);
     assert_ne!(text, shipped);
-    let e = SkillParams::from_ron("t1.ron", &text, &t1)
-        .unwrap_err()
-        .to_string();
+    let e = refused("t1.ron", &text, &t1);
     assert!(
         e.contains("`hip_yaw_pitch` is not a leg joint of T1"),
         "{e}"
@@ -28,21 +33,15 @@ fn unknown_joints_and_out_of_range_angles_are_rejected() {
     let t1 = RobotModel::builtin("T1").unwrap();
     let shipped = include_str!("../../params/t1.ron");
     let text = shipped.replacen("\"left_knee\": 24.0", "\"left_kne\": 1.0", 1);
-    let e = SkillParams::from_ron("x.ron", &text, &t1)
-        .unwrap_err()
-        .to_string();
+    let e = refused("x.ron", &text, &t1);
     assert!(e.contains("`left_kne` is not a joint"), "{e}");
     let text = shipped.replacen("\"left_knee\": 24.0", "\"left_knee\": -5.0", 1);
-    let e = SkillParams::from_ron("x.ron", &text, &t1)
-        .unwrap_err()
-        .to_string();
+    let e = refused("x.ron", &text, &t1);
     assert!(e.contains("outside its limits"), "{e}");
     let at = shipped.find("step_period_s: ").unwrap() + "step_period_s: ".len();
     let end = at + shipped[at..].find(',').unwrap();
     let text = format!("{}5.0{}", &shipped[..at], &shipped[end..]);
-    let e = SkillParams::from_ron("x.ron", &text, &t1)
-        .unwrap_err()
-        .to_string();
+    let e = refused("x.ron", &text, &t1);
     assert!(e.starts_with("x.ron:"), "{e}");
     assert!(e.contains("walk.step_period_s = 5 is outside"), "{e}");
 }
@@ -54,9 +53,7 @@ fn unknown_fields_are_named_with_their_place() {
     let t1 = RobotModel::builtin("T1").unwrap();
     let shipped = include_str!("../../params/t1.ron");
     let text = shipped.replacen("step_period_s: ", "step_perod_s: 0.3, step_period_s: ", 1);
-    let e = SkillParams::from_ron("x.ron", &text, &t1)
-        .unwrap_err()
-        .to_string();
+    let e = refused("x.ron", &text, &t1);
     let line = 1 + shipped[..shipped.find("step_period_s: ").unwrap()]
         .matches('\n')
         .count();
@@ -65,9 +62,7 @@ fn unknown_fields_are_named_with_their_place() {
     let nao = RobotModel::builtin("nao_type3").unwrap();
     let shipped = include_str!("../../params/nao.ron");
     let text = shipped.replacen("kick_by_type:", "kick_by_typ:", 1);
-    let e = SkillParams::from_ron("nao.ron", &text, &nao)
-        .unwrap_err()
-        .to_string();
+    let e = refused("nao.ron", &text, &nao);
     assert!(e.contains("kick_by_typ"), "{e}");
 }
 
@@ -99,9 +94,7 @@ fn out_of_range_kick_numbers_name_their_field() {
         1,
     );
     assert_ne!(text, shipped);
-    let e = SkillParams::from_ron("t1.ron", &text, &t1)
-        .unwrap_err()
-        .to_string();
+    let e = refused("t1.ron", &text, &t1);
     assert!(
         e.contains("swing_gains: `hip_pich` is not a leg joint"),
         "{e}"
@@ -198,9 +191,7 @@ fn a_type_with_its_own_get_up_plays_it_and_the_others_play_the_common_one() {
         1,
     );
     let nao = RobotModel::builtin("NAO_type0").unwrap();
-    let e = SkillParams::from_ron("nao.ron", &broken, &nao)
-        .unwrap_err()
-        .to_string();
+    let e = refused("nao.ron", &broken, &nao);
     assert!(e.contains("get_up_by_type 9"), "{e}");
     // A side named after a type without a motion of its own there is refused by name.
     for (entry, says) in [
@@ -222,9 +213,7 @@ fn a_type_with_its_own_get_up_plays_it_and_the_others_play_the_common_one() {
             &format!("get_up_by_type: {{ {entry}"),
             1,
         );
-        let e = SkillParams::from_ron("nao.ron", &broken, &nao)
-            .unwrap_err()
-            .to_string();
+        let e = refused("nao.ron", &broken, &nao);
         assert!(e.contains(says), "{entry}: {e}");
     }
 }
