@@ -385,13 +385,22 @@ impl AgentHost<'_> {
         // With nothing but the ball in the way (and the ball at rest), the kick skill's own
         // approach takes over early: it walks round the ball at full pace, while the walk to a
         // point behind the ball slowed down there and handed over at a standstill.
-        let hand_over_m =
-            if !self.ball_rolls() && crate::avoidance::way_clear(me, ball, &self.obstacles(None)) {
-                avoidance.clear_handover_m
-            } else {
-                avoidance.handover_m
-            };
-        let far = me.distance(ball) > hand_over_m * REAPPROACH_BEYOND_HANDOVER;
+        let way_clear = crate::avoidance::way_clear(me, ball, &self.obstacles(None));
+        let hand_over_m = if !self.ball_rolls() && way_clear {
+            avoidance.clear_handover_m
+        } else {
+            avoidance.handover_m
+        };
+        // An approach under way is judged by the way alone, not by whether the ball rolls: a
+        // ball at rest seen rolling now and then (the tracker's fit right after a placement)
+        // swapped the approach and the walk behind the ball every few cycles for 2.5 s, each
+        // swap turning the robot 10-15 deg (striker_alone, NOTES.md session 30).
+        let reapproach_m = if way_clear {
+            avoidance.clear_handover_m
+        } else {
+            avoidance.handover_m
+        } * REAPPROACH_BEYOND_HANDOVER;
+        let far = me.distance(ball) > reapproach_m;
         let approaching = match self.skills.kick {
             KickState::Idle => false,
             KickState::Approaching => !far,

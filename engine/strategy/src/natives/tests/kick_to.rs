@@ -135,3 +135,28 @@ fn a_short_gap_in_sight_keeps_an_approach_going_a_long_one_gives_up() {
     let (status, _) = tick(&world, Vec2::new(4.0, 2.0), KickState::Approaching);
     assert_eq!(status, Status::Failure);
 }
+
+#[test]
+fn an_approach_under_way_is_kept_when_a_ball_at_rest_is_fitted_a_slow_roll() {
+    // 2.8 m behind the ball with the way clear: the kick skill's approach is under way.
+    let mut world = world();
+    world.me.position = [2.8, -2.0]; // own (-2.8, 2)
+                                     // The tracker fits a slow roll to a ball at rest now and then (0.3 m/s, 0.1 m to go):
+                                     // that must not hand the approach back to the walk behind the ball (it swapped every few
+                                     // cycles, turning the robot each time).
+    world.ball.velocity = [-0.3, 0.0];
+    let (_, intent) = tick(&world, Vec2::new(4.0, 2.0), KickState::Approaching);
+    assert!(
+        matches!(intent.body, BodyIntent::Kick { .. }),
+        "{:?}",
+        intent.body
+    );
+    // A ball that rolled on beyond twice the clear hand-over is walked after again.
+    world.me.position = [6.5, -2.0]; // own (-6.5, 2)
+    let (_, intent) = tick(&world, Vec2::new(4.0, 2.0), KickState::Approaching);
+    assert!(
+        matches!(intent.body, BodyIntent::WalkTo { .. }),
+        "{:?}",
+        intent.body
+    );
+}
