@@ -160,6 +160,8 @@ impl Decider for TreeDecider {
                 self.notes = Some(host.notes());
             }
             intent.time_to_ball_s = self.memory.time_to_ball.take();
+            intent.going_for_ball =
+                intent.time_to_ball_s.is_some() && self.memory.ball_winner.get();
         }
         if log::log_enabled!(log::Level::Debug) {
             let path = self.trace_line();

@@ -381,7 +381,7 @@ impl Player {
         {
             return;
         }
-        let message = world.team_message(self.intent.time_to_ball_s);
+        let message = world.team_message(self.intent.time_to_ball_s, self.intent.going_for_ball);
         self.intent.say = Some(message.encode(&world.game.team, &world.field, server));
     }
 

@@ -82,4 +82,6 @@ pub struct Intent {
     /// The decision's claim to the ball: this player's predicted time to reach it [s], which
     /// it tells its teammates (`None`: not claiming).
     pub time_to_ball_s: Option<f64>,
+    /// The decision goes for the ball (it judged itself the ball winner), which it tells too.
+    pub going_for_ball: bool,
 }

@@ -54,29 +54,42 @@ const TOLD_BALL_WITHIN_S: f64 = 3.0;
 /// Claims older than this are forgotten [s].
 const CLAIM_MEMORY_S: f64 = 2.0;
 
+/// A teammate's latest word on the ball.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct BallClaim {
+    pub unum: u32,
+    /// Its time to reach the ball [s] (`None`: not claiming).
+    pub time_to_ball_s: Option<f64>,
+    /// It is going for the ball.
+    pub going_for_ball: bool,
+    /// It is lying down (its own word: a teammate seen from afar is often judged fallen).
+    pub fallen: bool,
+    /// When it said so [s].
+    pub at: f64,
+}
+
 /// What teammates told us: each one's latest claim to the ball, and message counts.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct HeardNews {
-    /// Per teammate: (uniform number, its time to reach the ball [s], when it said so).
-    pub claims: Vec<(u32, Option<f64>, f64)>,
+    /// Per teammate, its latest claim.
+    pub claims: Vec<BallClaim>,
     /// Messages taken and rejected (malformed, foreign, garbage).
     pub taken: u64,
     pub rejected: u64,
 }
 
 impl HeardNews {
-    fn claim(&mut self, unum: u32, time_to_ball_s: Option<f64>, at: f64) {
+    fn claim(&mut self, claim: BallClaim) {
         self.claims
-            .retain(|(u, _, t)| *u != unum && at - t <= CLAIM_MEMORY_S);
-        self.claims.push((unum, time_to_ball_s, at));
+            .retain(|c| c.unum != claim.unum && claim.at - c.at <= CLAIM_MEMORY_S);
+        self.claims.push(claim);
     }
 
     /// Teammates' claims said within `CLAIM_MEMORY_S` of `now`.
-    pub fn recent_claims(&self, now: f64) -> impl Iterator<Item = (u32, Option<f64>)> + '_ {
+    pub fn recent_claims(&self, now: f64) -> impl Iterator<Item = &BallClaim> + '_ {
         self.claims
             .iter()
-            .filter(move |(_, _, t)| now - t <= CLAIM_MEMORY_S)
-            .map(|(u, c, _)| (*u, *c))
+            .filter(move |c| now - c.at <= CLAIM_MEMORY_S)
     }
 }
 use localization::Localizer;
@@ -268,13 +281,23 @@ impl World {
                 self.ball
                     .hear(self.time, said_at - age, ball, HEARD_BALL_NEWER_BY_S);
             }
-            self.heard.claim(unum, message.time_to_ball_s, said_at);
+            self.heard.claim(BallClaim {
+                unum,
+                time_to_ball_s: message.time_to_ball_s,
+                going_for_ball: message.going_for_ball,
+                fallen: message.fallen,
+                at: said_at,
+            });
         }
     }
 
     /// The message this player says when it has the channel: its own estimates only (what it
     /// heard is not passed on, so stale news does not circulate).
-    pub fn team_message(&self, time_to_ball_s: Option<f64>) -> team_message::TeamMessage {
+    pub fn team_message(
+        &self,
+        time_to_ball_s: Option<f64>,
+        going_for_ball: bool,
+    ) -> team_message::TeamMessage {
         let ball = self
             .ball
             .last_seen_time
@@ -287,6 +310,7 @@ impl World {
             fallen: self.body.posture != Posture::Upright,
             ball,
             time_to_ball_s,
+            going_for_ball,
         }
     }
 

@@ -1,6 +1,6 @@
 //! What teammates tell each other (thesis 6.4): the speaker's position and whether it is down,
-//! where it saw the ball and how long ago, and how soon it can reach the ball (its claim to be
-//! the ball winner). One format for both servers: 9 bytes, sent as they are on rcssservermj
+//! where it saw the ball and how long ago, how soon it can reach the ball (its claim to be the
+//! ball winner) and whether it is going for it. One format for both servers: 9 bytes, sent as they are on rcssservermj
 //! (≤ 10 bytes, base64 on the wire) and as 12 base64 characters on SimSpark (≤ 20 characters
 //! of its safe alphabet). A CRC-16 seeded with the team name rejects garbage and the other
 //! team's messages; nothing heard is trusted without it.
@@ -24,10 +24,18 @@ const POSITION_Y_BITS: u32 = 9;
 const MARGIN_M: f64 = 2.0;
 const AGE_STEP_S: f64 = 0.1;
 const AGE_BITS: u32 = 5;
+/// Times to the ball are told in 0.2 s steps up to 8 s, where who is first is close and
+/// matters, and in 0.5 s steps beyond: six bits, leaving one for `going_for_ball`.
 const TIME_STEP_S: f64 = 0.2;
-const TIME_BITS: u32 = 7;
+const FINE_TIME_S: f64 = 8.0;
+const COARSE_TIME_STEP_S: f64 = 0.5;
+const TIME_BITS: u32 = 6;
+/// The code that says "not claiming".
+const NO_TIME: u64 = (1 << TIME_BITS) - 1;
+const FINE_CODES: u64 = 40;
 /// The longest time-to-ball a message can tell [s]; a claim of this much means "this or more".
-pub const TIME_TO_BALL_MAX_S: f64 = TIME_STEP_S * ((1u64 << TIME_BITS) - 2) as f64;
+pub const TIME_TO_BALL_MAX_S: f64 =
+    FINE_TIME_S + COARSE_TIME_STEP_S * (NO_TIME - 1 - FINE_CODES) as f64;
 const CHECK: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
 
 /// Each slot of the turn-taking carries this many speakers on rcssservermj (a listener hears
@@ -47,6 +55,34 @@ pub struct TeamMessage {
     pub ball: Option<([f64; 2], f64)>,
     /// The speaker's estimate of its time to reach the ball [s] (`None`: not claiming).
     pub time_to_ball_s: Option<f64>,
+    /// The speaker is going for the ball (it judged itself the ball winner): its teammates
+    /// give it the same head start it gives itself, so two players that both went for the
+    /// ball compare their bare times and one of them gives way.
+    pub going_for_ball: bool,
+}
+
+/// A time to the ball in the steps a message carries it [s] (beyond its ceiling too): a player
+/// compares its own time in the steps it hears its teammates' in, so two players close to
+/// each other agree on who is first.
+pub fn told_time_to_ball(time_s: f64) -> f64 {
+    time_of_code(time_code(time_s))
+}
+
+/// The code of a time to the ball (beyond the message's ceiling too).
+fn time_code(time_s: f64) -> u64 {
+    if time_s <= FINE_TIME_S {
+        (time_s / TIME_STEP_S).round().max(0.0) as u64
+    } else {
+        FINE_CODES + ((time_s - FINE_TIME_S) / COARSE_TIME_STEP_S).round() as u64
+    }
+}
+
+fn time_of_code(code: u64) -> f64 {
+    if code <= FINE_CODES {
+        code as f64 * TIME_STEP_S
+    } else {
+        FINE_TIME_S + (code - FINE_CODES) as f64 * COARSE_TIME_STEP_S
+    }
 }
 
 /// Why a heard message was not taken.
@@ -163,11 +199,11 @@ impl TeamMessage {
         let (ball, age) = self.ball.unwrap_or(([0.0; 2], 0.0));
         grid.put(&mut bits, ball);
         bits.put(steps(age, AGE_STEP_S, AGE_BITS), AGE_BITS);
-        let none = (1u64 << TIME_BITS) - 1;
         let time = self
             .time_to_ball_s
-            .map_or(none, |t| steps(t, TIME_STEP_S, TIME_BITS).min(none - 1));
+            .map_or(NO_TIME, |t| time_code(t).min(NO_TIME - 1));
         bits.put(time, TIME_BITS);
+        bits.put(u64::from(self.going_for_ball), 1);
         let mut bytes = [0u8; MESSAGE_BYTES];
         bytes[..PAYLOAD_BYTES].copy_from_slice(&bits.bytes);
         bytes[PAYLOAD_BYTES..].copy_from_slice(&check(team, &bits.bytes).to_be_bytes());
@@ -215,12 +251,14 @@ impl TeamMessage {
         let ball = grid.take(&mut bits);
         let age = bits.take(AGE_BITS) as f64 * AGE_STEP_S;
         let time = bits.take(TIME_BITS);
+        let going_for_ball = bits.take(1) == 1;
         Ok(TeamMessage {
             unum,
             position,
             fallen,
             ball: has_ball.then_some((ball, age)),
-            time_to_ball_s: (time != (1 << TIME_BITS) - 1).then_some(time as f64 * TIME_STEP_S),
+            time_to_ball_s: (time != NO_TIME).then(|| time_of_code(time)),
+            going_for_ball,
         })
     }
 }

@@ -8,7 +8,7 @@ use crate::Situation;
 use arrayvec::ArrayVec;
 use libero_behavior::{NodeSpec, ParamSpec, Value, ValueType};
 use libero_world::team_message::TIME_TO_BALL_MAX_S;
-use libero_world::{Own, Relation};
+use libero_world::{BallClaim, Own, Relation};
 
 pub(super) const NODES: &[Native] = &[Native::query(am_ball_winner_ports, am_ball_winner)];
 
@@ -25,7 +25,7 @@ fn am_ball_winner_ports() -> NodeSpec {
     NodeSpec::query(
         "am_ball_winner",
         ValueType::Bool,
-        "True when this player reaches the ball first of the field players: its predicted time (to meet the ball walking at `walk_speed`: a rolling ball where its path is reached first, else where it comes to rest; the turn to face that point at `turn_rate`; `get_up` when lying) against each teammate's claim heard in the last second, or the same prediction from where it was seen. Once winner, a teammate must be `hysteresis` faster to take over. This player's time is what it tells its teammates.",
+        "True when this player reaches the ball first of the field players: its predicted time (to meet the ball walking at `walk_speed`: a rolling ball where its path is reached first, else where it comes to rest; the turn to face that point at `turn_rate`; `get_up` when lying) against each teammate's claim heard in the last second, or the same prediction from where it was seen. Once winner, a teammate must be `hysteresis` faster to take over. Whoever goes for the ball (this player, or a teammate that says so) starts `hysteresis` ahead; two that both go compare bare times. This player's time, and whether it goes, is what it tells its teammates.",
     )
     .param(
         ParamSpec::new("walk_speed", ValueType::Float)
@@ -53,7 +53,7 @@ fn am_ball_winner_ports() -> NodeSpec {
             .unit("s")
             .range(0.0, 10.0)
             .default(Value::Float(0.5))
-            .doc("how much faster a teammate must be to take the ball over"),
+            .doc("the head start of whoever goes for the ball: how much faster another must be to take it over"),
     )
 }
 
@@ -93,33 +93,53 @@ fn am_ball_winner(host: &AgentHost, ports: &Ports) -> Value {
     );
     host.memory.time_to_ball.set(Some(mine));
     let now = world.time;
-    let claims: ArrayVec<(u32, Option<f64>), MAX_PLAYERS> =
+    let head_start = ports.float("hysteresis");
+    // Whoever goes for the ball (this player by its memory, a teammate by its word) starts
+    // `hysteresis` ahead: a teammate must be that much quicker to take the ball over. Two
+    // that both went for it compare their bare times and the slower gives way; when each
+    // gave itself the head start alone, both kept going and ran into each other (matches,
+    // NOTES.md session 30). Times are compared as messages tell them, ties by uniform number.
+    let told = libero_world::team_message::told_time_to_ball;
+    let me = (
+        told(mine)
+            - if host.memory.ball_winner.get() {
+                head_start
+            } else {
+                0.0
+            },
+        world.game.unum,
+    );
+    let claims: ArrayVec<&BallClaim, MAX_PLAYERS> =
         world.heard.recent_claims(now).take(MAX_PLAYERS).collect();
-    let others = world
+    let quickest_other = world
         .players
         .of(Relation::Teammate)
         .filter(|p| p.unum != 1 && p.unum != world.game.unum && p.age(now) <= CLAIM_FRESH_S)
         .map(|p| {
+            let claim = claims.iter().find(|c| c.unum == p.unum);
             // A claim at the message's ceiling says only "this or more": then the prediction
             // from where the teammate is (otherwise every player far away waits for another).
-            let heard = claims
-                .iter()
-                .find(|(u, _)| *u == p.unum)
-                .and_then(|c| c.1)
+            let heard = claim
+                .and_then(|c| c.time_to_ball_s)
                 .filter(|t| *t < TIME_TO_BALL_MAX_S - 1e-6);
-            heard.unwrap_or_else(|| {
-                pace.time(
+            // Lying or not by its own word when heard: seen from 6 m, a standing T1's head was
+            // judged 0.42 m high (fallen), and two players went for the ball it was at.
+            let fallen = claim.map_or(p.fallen, |c| c.fallen);
+            let time = heard.unwrap_or_else(|| {
+                told(pace.time(
                     host,
                     host.own_of(p.position),
                     p.heading_deg.map(|h| world.yaw_to_own_frame(h)),
-                    p.fallen,
-                )
-            })
+                    fallen,
+                ))
+            });
+            let going = claim.is_some_and(|c| c.going_for_ball);
+            (time - if going { head_start } else { 0.0 }, p.unum)
         })
-        .fold(f64::INFINITY, f64::min);
-    let was = host.memory.ball_winner.get();
-    let margin = if was { ports.float("hysteresis") } else { 0.0 };
-    let winner = mine <= others + margin;
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let winner = quickest_other.is_none_or(|other| {
+        me.0 < other.0 - 1e-9 || ((me.0 - other.0).abs() <= 1e-9 && me.1 < other.1)
+    });
     host.memory.ball_winner.set(winner);
     Value::Bool(winner)
 }
@@ -132,13 +152,14 @@ impl AgentHost<'_> {
             return Some(self.unum());
         }
         let now = self.world.time;
+        // The teammate that says it goes for the ball; else the quickest claim.
         self.world
             .heard
             .recent_claims(now)
-            .filter_map(|(u, t)| Some((u, t?)))
-            .filter(|(u, _)| *u != 1)
-            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
-            .and_then(|(u, _)| u8::try_from(u).ok())
+            .filter(|c| c.unum != 1)
+            .filter_map(|c| Some((!c.going_for_ball, c.time_to_ball_s?, c.unum)))
+            .min_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)))
+            .and_then(|(_, _, u)| u8::try_from(u).ok())
     }
 
     /// While teammate `winner` is at the ball (at rest) about to play it, the slot nearest

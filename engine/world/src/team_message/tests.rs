@@ -12,6 +12,7 @@ fn message() -> TeamMessage {
         fallen: true,
         ball: Some(([3.21, -8.76], 0.73)),
         time_to_ball_s: Some(4.2),
+        going_for_ball: true,
     }
 }
 
@@ -46,6 +47,7 @@ fn a_message_comes_back_within_the_grid_on_both_servers() {
         assert!(close(ball, [3.21, -8.76]), "{back:?}");
         assert!((age - 0.7).abs() < 1e-9);
         assert!((back.time_to_ball_s.unwrap() - 4.2).abs() < 1e-9);
+        assert!(back.going_for_ball);
     }
 }
 
@@ -54,6 +56,7 @@ fn no_ball_and_no_claim_stay_absent_and_long_values_saturate() {
     let m = TeamMessage {
         ball: None,
         time_to_ball_s: None,
+        going_for_ball: false,
         fallen: false,
         position: [100.0, -100.0],
         ..message()
@@ -62,8 +65,13 @@ fn no_ball_and_no_claim_stay_absent_and_long_values_saturate() {
     let back =
         TeamMessage::decode(&on_the_wire(&bytes, ServerKind::RcssMj), "Libero", &field()).unwrap();
     assert_eq!(
-        (back.ball, back.time_to_ball_s, back.fallen),
-        (None, None, false)
+        (
+            back.ball,
+            back.time_to_ball_s,
+            back.fallen,
+            back.going_for_ball
+        ),
+        (None, None, false, false)
     );
     // Off the field: clamped to the grid's edge, not wrapped round.
     assert!((back.position[0] - 29.5).abs() < 0.1 && (back.position[1] + 20.0).abs() < 0.1);
@@ -76,7 +84,7 @@ fn no_ball_and_no_claim_stay_absent_and_long_values_saturate() {
     let back =
         TeamMessage::decode(&on_the_wire(&bytes, ServerKind::RcssMj), "Libero", &field()).unwrap();
     assert!((back.time_to_ball_s.unwrap() - TIME_TO_BALL_MAX_S).abs() < 1e-9);
-    assert!((TIME_TO_BALL_MAX_S - 25.2).abs() < 1e-9);
+    assert!((TIME_TO_BALL_MAX_S - 19.0).abs() < 1e-9);
     assert!((back.ball.unwrap().1 - 3.1).abs() < 1e-9);
 }
 
@@ -134,4 +142,35 @@ fn every_player_gets_the_channel_and_few_speak_at_once() {
         };
         assert_eq!(least, expected, "{server:?}: {spoke:?}");
     }
+}
+
+#[test]
+fn times_to_the_ball_are_told_finely_while_short_and_coarsely_beyond() {
+    for (time, told) in [
+        (0.0, 0.0),
+        (0.09, 0.0),
+        (0.11, 0.2),
+        (4.23, 4.2),
+        (8.0, 8.0),
+        (8.2, 8.0),
+        (8.3, 8.5),
+        (13.1, 13.0),
+        (18.9, 19.0),
+    ] {
+        let m = TeamMessage {
+            time_to_ball_s: Some(time),
+            ..message()
+        };
+        let bytes = m.encode("Libero", &field(), ServerKind::RcssMj);
+        let back =
+            TeamMessage::decode(&on_the_wire(&bytes, ServerKind::RcssMj), "Libero", &field())
+                .unwrap();
+        assert!(
+            (back.time_to_ball_s.unwrap() - told).abs() < 1e-9,
+            "{time}: {back:?}"
+        );
+        assert!((told_time_to_ball(time) - told).abs() < 1e-9, "{time}");
+    }
+    // Beyond the ceiling a player still compares its own time in the coarse steps.
+    assert!((told_time_to_ball(30.2) - 30.0).abs() < 1e-9);
 }

@@ -42,7 +42,13 @@ fn world(winner: [f64; 2]) -> World {
     world.me.position = [3.0, 0.5];
     world.ball.position = [1.0, 1.5];
     world.ball.last_seen_time = Some(20.0);
-    world.heard.claims.push((4, Some(0.5), 19.9));
+    world.heard.claims.push(libero_world::BallClaim {
+        unum: 4,
+        time_to_ball_s: Some(0.5),
+        going_for_ball: true,
+        fallen: false,
+        at: 19.9,
+    });
     for (unum, at) in [
         (4, winner),
         (2, [-12.0, 5.0]),

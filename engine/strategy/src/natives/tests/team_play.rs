@@ -25,6 +25,45 @@ fn winner(world: &World, memory: &mut PlayerMemory) -> bool {
     run_query(world, "am_ball_winner", &args, memory).as_bool()
 }
 
+/// Teammate `unum`'s word heard 0.1 s ago.
+fn claim(unum: u32, time_to_ball_s: f64, going_for_ball: bool) -> libero_world::BallClaim {
+    libero_world::BallClaim {
+        unum,
+        time_to_ball_s: Some(time_to_ball_s),
+        going_for_ball,
+        fallen: false,
+        at: 19.9,
+    }
+}
+
+#[test]
+fn of_two_players_going_for_the_ball_the_slower_gives_way_and_the_one_going_keeps_it() {
+    // We are 2 m from the ball (4 s), teammate 3 says 3.6 s.
+    let mut w = world([8.0, 0.0], [10.0, 0.0]);
+    w.players
+        .heard(Relation::Teammate, 3, [11.8, 0.0], Some(false), 19.9);
+    let going = PlayerMemory::default();
+    going.ball_winner.set(true);
+    // It does not go (yet): we went, and keep the ball within our head start (0.5 s).
+    w.heard.claims.push(claim(3, 3.6, false));
+    assert!(winner(&w, &mut going.clone()));
+    // It goes too: bare times, and it is quicker. With a head start each (the old rule) both
+    // kept going and ran into each other.
+    w.heard.claims[0] = claim(3, 3.6, true);
+    assert!(!winner(&w, &mut going.clone()));
+    // Not going ourselves, a teammate that goes keeps the ball even when we are a little
+    // quicker ...
+    w.heard.claims[0] = claim(3, 4.4, true);
+    assert!(!winner(&w, &mut PlayerMemory::default()));
+    // ... but not when we are quicker by more than its head start.
+    w.heard.claims[0] = claim(3, 4.6, true);
+    assert!(winner(&w, &mut PlayerMemory::default()));
+    // Both going and equally quick as the messages tell it: the lower number goes, on both
+    // sides alike (we are 2).
+    w.heard.claims[0] = claim(3, 4.0, true);
+    assert!(winner(&w, &mut going.clone()));
+}
+
 #[test]
 fn the_ball_winner_is_whoever_gets_there_first_not_whoever_is_nearest() {
     let mut w = world([8.0, 0.0], [10.0, 0.0]); // 2 m ahead: 4 s
@@ -56,10 +95,10 @@ fn the_ball_winner_is_whoever_gets_there_first_not_whoever_is_nearest() {
 #[test]
 fn a_claim_at_the_messages_ceiling_is_judged_from_where_the_teammate_is() {
     use libero_world::team_message::TIME_TO_BALL_MAX_S;
-    // We are 14 m from the ball (28 s); every claim heard is at the ceiling (25 s), which
-    // only says "25 s or more". Before, everybody far away waited for somebody else.
+    // We are 14 m from the ball (28 s); every claim heard is at the ceiling (12.4 s), which
+    // only says "12.4 s or more". Before, everybody far away waited for somebody else.
     let mut w = world([-4.0, 0.0], [10.0, 0.0]);
-    w.heard.claims.push((3, Some(TIME_TO_BALL_MAX_S), 19.9));
+    w.heard.claims.push(claim(3, TIME_TO_BALL_MAX_S, false));
     w.players
         .heard(Relation::Teammate, 3, [-10.0, 0.0], Some(false), 19.9);
     assert!(
@@ -71,6 +110,13 @@ fn a_claim_at_the_messages_ceiling_is_judged_from_where_the_teammate_is() {
     assert!(
         !winner(&w, &mut PlayerMemory::default()),
         "the teammate is 13 m away"
+    );
+    // Seen lying from afar (vision misjudges heads far away) while it says it stands: its
+    // word counts.
+    w.players.known.iter_mut().for_each(|p| p.fallen = true);
+    assert!(
+        !winner(&w, &mut PlayerMemory::default()),
+        "the teammate says it stands"
     );
 }
 
@@ -228,7 +274,7 @@ fn the_ball_winner_takes_the_slot_nearest_the_ball_and_the_others_share_the_rest
     // we stand by the striker's slot and the striker (7) by ours, the left back's at
     // (-12, 5): we swap.
     memory.ball_winner.set(false);
-    w.heard.claims.push((5, Some(1.0), 19.9));
+    w.heard.claims.push(claim(5, 1.0, false));
     w.players
         .heard(Relation::Teammate, 5, [0.5, 0.0], Some(false), 19.9);
     w.players
