@@ -198,3 +198,32 @@ fn a_still_body_found_upside_down_from_the_estimate_is_trusted_within_half_a_sec
         loc.up
     );
 }
+
+#[test]
+fn once_localized_two_landmarks_relocalize_only_when_two_frames_agree_three_at_once() {
+    let mut loc = tilt_localizer();
+    let fit = PoseFit {
+        position: Vector2::new(1.0, 0.0),
+        yaw: 0.0,
+        rms: 0.01,
+        spread: 5.0,
+    };
+    // Not yet localized: any consistent fit starts the estimate.
+    assert!(loc.should_relocalize(&fit, 2, None));
+    loc.reset_to(&PoseFit {
+        position: Vector2::zeros(),
+        ..fit
+    });
+    // 1 m off the estimate: two landmarks fix a pose whatever a tilted camera made of them,
+    // three check each other ...
+    assert!(!loc.should_relocalize(&fit, 2, None));
+    assert!(loc.should_relocalize(&fit, 3, None));
+    // ... and two do when the frame before said the same (a robot moved stays moved), not
+    // when it said something else.
+    assert!(loc.should_relocalize(&fit, 2, Some(&fit)));
+    let elsewhere = PoseFit {
+        position: Vector2::new(0.0, 0.5),
+        ..fit
+    };
+    assert!(!loc.should_relocalize(&fit, 2, Some(&elsewhere)));
+}

@@ -22,6 +22,9 @@ pub struct LocalizationParams {
     /// estimate lies more than `relocalize_far_ratio` times its rms away (a placement).
     pub relocalize_far_fit_rms: f64,
     pub relocalize_far_ratio: f64,
+    /// Once localized, a fit of fewer landmarks relocalizes only when the previous vision
+    /// frame's fit agrees with it.
+    pub relocalize_min_landmarks: usize,
     pub lost_after_rejected_frames: u32,
     pub tilt_accel_correction: f64,
     pub tilt_accel_correction_still: f64,
@@ -190,6 +193,12 @@ impl WorldParams {
         fraction("tilt_accel_correction", l.tilt_accel_correction);
         fraction("tilt_accel_correction_still", l.tilt_accel_correction_still);
         fraction("rolling_speed_ratio", b.rolling_speed_ratio);
+        if l.relocalize_min_landmarks < 2 {
+            problems.push(format!(
+                "`relocalize_min_landmarks` must be at least 2 (a fit needs two landmarks), not {}",
+                l.relocalize_min_landmarks
+            ));
+        }
         if b.drag_learning_rate > 1.0 {
             problems.push(format!(
                 "`drag_learning_rate` must be at most 1, not {}",
