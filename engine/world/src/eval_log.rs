@@ -7,7 +7,8 @@
 //!   "me":{"position":[x,y], "yaw_deg":…, "height":…, "position_sigma":…, "localized":…, …},
 //!   "ball":{"position":[x,y], "velocity":[vx,vy], "predicted_stop":[x,y], "last_seen_time":…, …},
 //!   "players":[{"relation":"Opponent","unum":3,"position":[x,y],…}],
-//!   "truth":{"position":[x,y,z], "yaw_deg":…}}`
+//!   "truth":{"position":[x,y,z], "yaw_deg":…, "roll_deg":…, "pitch_deg":…}}` (truth roll and
+//!   pitch in the estimate's convention, to check the tilt filter against)
 
 use crate::{BallEstimate, PlayerEstimate, SelfEstimate, Side, World};
 use serde::Serialize;
@@ -19,6 +20,10 @@ use std::path::Path;
 struct Truth {
     position: [f64; 3],
     yaw_deg: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    roll_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pitch_deg: Option<f64>,
 }
 
 #[derive(Serialize)]
@@ -92,9 +97,18 @@ impl<W: Write> EvalLogger<W> {
                 .then_some(&world.ball),
             heard: &world.heard,
             players: &world.players.known,
-            truth: world
-                .truth_pose()
-                .map(|(position, yaw_deg)| Truth { position, yaw_deg }),
+            truth: world.truth_pose().map(|(position, yaw_deg)| {
+                let tilt = world
+                    .truth
+                    .torso_orientation
+                    .map(crate::geometry::roll_pitch_deg_of_quaternion);
+                Truth {
+                    position,
+                    yaw_deg,
+                    roll_deg: tilt.map(|t| t.0),
+                    pitch_deg: tilt.map(|t| t.1),
+                }
+            }),
             trace,
             extra,
         };

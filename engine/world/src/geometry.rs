@@ -43,6 +43,18 @@ pub fn heading_deg_of_quaternion(q: [f64; 4]) -> f64 {
     heading_of(&r).to_degrees()
 }
 
+/// Roll and pitch [deg] of a torso whose orientation is `q` (w, x, y, z; torso to world), in
+/// the estimate's convention: from the world's up as the torso sees it, pitch > 0 nose down,
+/// roll > 0 leaning right.
+pub fn roll_pitch_deg_of_quaternion(q: [f64; 4]) -> (f64, f64) {
+    let r = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
+    let up = r.inverse() * nalgebra::Vector3::z();
+    (
+        up.y.atan2(up.z).to_degrees(),
+        (-up.x).atan2(up.z).to_degrees(),
+    )
+}
+
 /// Rotate a ground vector by `angle` [rad].
 pub fn rotate2(v: Vector2<f64>, angle: f64) -> Vector2<f64> {
     let (s, c) = angle.sin_cos();
@@ -80,6 +92,29 @@ mod tests {
             elevation_deg: 0.0
         })
         .is_none());
+    }
+
+    #[test]
+    fn roll_and_pitch_of_a_torso_orientation_follow_the_estimates_convention() {
+        let q = |axis: nalgebra::Unit<nalgebra::Vector3<f64>>, deg: f64| {
+            let r = UnitQuaternion::from_axis_angle(&axis, deg.to_radians());
+            [r.w, r.i, r.j, r.k]
+        };
+        // About the torso's y axis (left), +20 deg turns x (forward) down: nose down.
+        let (roll, pitch) = roll_pitch_deg_of_quaternion(q(nalgebra::Vector3::y_axis(), 20.0));
+        assert!(
+            roll.abs() < 1e-9 && (pitch - 20.0).abs() < 1e-9,
+            "{roll} {pitch}"
+        );
+        // About x (forward), +10 deg lifts the left side: leaning right.
+        let (roll, pitch) = roll_pitch_deg_of_quaternion(q(nalgebra::Vector3::x_axis(), 10.0));
+        assert!(
+            (roll - 10.0).abs() < 1e-9 && pitch.abs() < 1e-9,
+            "{roll} {pitch}"
+        );
+        // A heading changes neither.
+        let (roll, pitch) = roll_pitch_deg_of_quaternion(q(nalgebra::Vector3::z_axis(), 70.0));
+        assert!(roll.abs() < 1e-9 && pitch.abs() < 1e-9);
     }
 
     #[test]
