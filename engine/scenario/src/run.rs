@@ -328,6 +328,7 @@ impl Arena {
         );
         self.monitor().send(&launch)?;
         let t0 = self.now();
+        log::info!("scenario: run {} starts at t {t0:.2}", setup.index + 1);
         let start_truth: Vec<(bool, u32, [f64; 2])> = [true, false]
             .into_iter()
             .flat_map(|ours| self.truth(ours).into_iter().map(move |(u, p)| (ours, u, p)))

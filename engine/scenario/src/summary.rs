@@ -231,6 +231,9 @@ impl Summary {
             "  goals {}-{}, ball travel {:.1} m",
             r.goals_for, r.goals_against, r.ball_travel_m
         ));
+        if let Some([x, y]) = r.ball_end {
+            line.push_str(&format!(", last in play at ({x:.2}, {y:.2})"));
+        }
         if let Some(y) = r.goal_line_y {
             line.push_str(&format!(", crossed a goal line at y = {y:.2}"));
         }

@@ -67,7 +67,20 @@ fn shot_is_good(host: &AgentHost, _: &Ports) -> bool {
     } else {
         params.threshold
     };
-    let good = (chosen && kicking) || host.best_shot().probability >= bar;
+    let best = host.best_shot();
+    let good = (chosen && kicking) || best.probability >= bar;
+    if good != chosen {
+        let ball = host.ball();
+        log::debug!(
+            "shot: t {now:.2} {} at ({:.2}, {:.2}) from ball ({:.2}, {:.2}): chance {:.2}",
+            if good { "good" } else { "not good" },
+            best.target.x,
+            best.target.y,
+            ball.x,
+            ball.y,
+            best.probability
+        );
+    }
     host.memory.shot_good_at.set(good.then_some(now));
     good
 }
