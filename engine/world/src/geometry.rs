@@ -43,16 +43,13 @@ pub fn heading_deg_of_quaternion(q: [f64; 4]) -> f64 {
     heading_of(&r).to_degrees()
 }
 
-/// Roll and pitch [deg] of a torso whose orientation is `q` (w, x, y, z; torso to world), in
-/// the estimate's convention: from the world's up as the torso sees it, pitch > 0 nose down,
-/// roll > 0 leaning right.
+/// Roll and pitch [deg] of a torso whose orientation is `q` (w, x, y, z; torso to world), as
+/// the estimate publishes them (`Localizer::publish`: the Euler roll and pitch, which do not
+/// depend on the heading): pitch > 0 nose down, roll > 0 leaning right.
 pub fn roll_pitch_deg_of_quaternion(q: [f64; 4]) -> (f64, f64) {
     let r = UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
-    let up = r.inverse() * nalgebra::Vector3::z();
-    (
-        up.y.atan2(up.z).to_degrees(),
-        (-up.x).atan2(up.z).to_degrees(),
-    )
+    let (roll, pitch, _) = r.euler_angles();
+    (roll.to_degrees(), pitch.to_degrees())
 }
 
 /// Rotate a ground vector by `angle` [rad].

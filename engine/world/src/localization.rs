@@ -17,6 +17,10 @@ use libero_model::kinematics::{BodyPoses, Kinematics};
 use libero_model::FieldGeometry;
 use libero_protocol::percept::{Seen, Vision, MAX_LANDMARKS};
 use nalgebra::{Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
+use pose_fit::{closed_form_fit, PoseFit};
+
+#[path = "localization_pose_fit.rs"]
+mod pose_fit;
 
 /// The agent's belief about its own torso pose.
 /// Magnitude of gravity [m/s²] (MuJoCo and SimSpark both use it).
@@ -527,62 +531,6 @@ impl Localizer {
         e.position_sigma = position_var.max(0.0).sqrt();
         e.yaw_sigma_deg = self.covariance[(2, 2)].max(0.0).sqrt().to_degrees();
     }
-}
-
-/// A pose from landmarks alone.
-#[derive(Debug, Clone, Copy)]
-struct PoseFit {
-    position: Vector2<f64>,
-    yaw: f64,
-    /// Weighted RMS distance between the landmarks and where the fit puts them [m].
-    rms: f64,
-    /// RMS distance of the observed landmarks from their centroid [m]: how well yaw is fixed.
-    spread: f64,
-}
-
-/// Weighted least squares over all landmarks of `field ≈ p + R(yaw)·offset` (on the ground
-/// plane): the closed-form 2-D Procrustes solution. Needs two landmarks that are apart.
-fn closed_form_fit(landmarks: &[LevelledLandmark]) -> Option<PoseFit> {
-    if landmarks.len() < 2 {
-        return None;
-    }
-    let weight = |l: &LevelledLandmark| 1.0 / (l.sigma * l.sigma);
-    let total: f64 = landmarks.iter().map(weight).sum();
-    let mean = |f: &dyn Fn(&LevelledLandmark) -> Vector2<f64>| {
-        landmarks
-            .iter()
-            .fold(Vector2::zeros(), |acc, l| acc + f(l) * weight(l))
-            / total
-    };
-    let field_mean = mean(&|l| l.field.xy());
-    let seen_mean = mean(&|l| l.offset.xy());
-    let (mut cos_sum, mut sin_sum, mut spread) = (0.0, 0.0, 0.0);
-    for l in landmarks {
-        let (q, h) = (l.field.xy() - field_mean, l.offset.xy() - seen_mean);
-        let w = weight(l);
-        cos_sum += w * (h.x * q.x + h.y * q.y);
-        sin_sum += w * (h.x * q.y - h.y * q.x);
-        spread += w * h.norm_squared();
-    }
-    let spread = (spread / total).sqrt();
-    if spread < 0.5 {
-        return None;
-    }
-    let yaw = sin_sum.atan2(cos_sum);
-    let position = field_mean - rotate2(seen_mean, yaw);
-    let rms = (landmarks
-        .iter()
-        .map(|l| weight(l) * (position + rotate2(l.offset.xy(), yaw) - l.field.xy()).norm_squared())
-        .sum::<f64>()
-        / total)
-        .sqrt();
-    let fit = PoseFit {
-        position,
-        yaw,
-        rms,
-        spread,
-    };
-    (position.iter().all(|c| c.is_finite()) && yaw.is_finite() && rms.is_finite()).then_some(fit)
 }
 
 /// `from` turned towards `to` (both unit vectors) by `fraction` of the angle between them. A
