@@ -115,11 +115,13 @@ fn gets_up_from_the_back() {
 }
 
 /// Three long kicks from different sides of the ball (the robot starts behind it, beside it
-/// facing away, and in front of it), each asked for 8 m in another direction. The full
-/// measurement is `libero bench kick`: after a free approach about one kick in five is not made
-/// in time or ends in a fall (see NOTES.md), so this asks for two good kicks out of three, each
-/// travelling and keeping its direction within bars below what the bench measured for kicks
-/// that happened (3.2–8.8 m, |error| mostly under 20°).
+/// facing away, and in front of it), each asked for 8 m in another direction. A kick is good
+/// when it is made without a fall, travels at least 7 m and keeps its direction within 12°;
+/// two good kicks of three are asked for, and a mean of 9 m over them. One bad kick of three is
+/// allowed because the full measurement has a tail of about one in fifty (`libero bench kick
+/// --seed 2..6`, session 32, 100 long kicks each with this and the previous capture step:
+/// shortest 8.9 / 8.0 m, |error| up to 12.1 / 13.4°, 1 / 3 bad by these bars) — and CI once met
+/// a 6.9 m kick. A kick that is broken (short, crooked or falling) fails most of the three.
 #[test]
 fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
     use libero_trial::kick_bench::{kick_once, KickSetup, KICK_LIMIT_S};
@@ -152,21 +154,29 @@ fn long_kicks_from_three_sides_travel_and_keep_their_direction() {
     // axis (0°, 90°) are the least precise: there the ball's curve amplifies launch errors.
     let mut good = 0;
     let mut travelled = 0.0;
+    let mut verdicts = Vec::new();
     for s in setups {
         let o = kick_once(&mut trial, &params, s, KICK_LIMIT_S).unwrap();
         eprintln!("{s:?}: {o:?}");
-        if o.kicked && !o.fell {
-            assert!(o.distance_m >= 7.0, "kicked only {:.2} m", o.distance_m);
-            assert!(
-                o.direction_error_deg.abs() <= 12.0,
-                "direction off by {:.1}°",
-                o.direction_error_deg
-            );
+        let verdict = if !o.kicked {
+            "not kicked".to_string()
+        } else if o.fell {
+            "fell".to_string()
+        } else if o.distance_m < 7.0 {
+            format!("only {:.2} m", o.distance_m)
+        } else if o.direction_error_deg.abs() > 12.0 {
+            format!("direction off by {:.1}°", o.direction_error_deg)
+        } else {
             good += 1;
             travelled += o.distance_m;
-        }
+            format!(
+                "good: {:.2} m, {:+.1}°",
+                o.distance_m, o.direction_error_deg
+            )
+        };
+        verdicts.push(verdict);
     }
-    assert!(good >= 2, "{good} of 3 kicks made without a fall");
+    assert!(good >= 2, "{good} of 3 kicks good: {verdicts:?}");
     let mean = travelled / f64::from(good);
     assert!(mean >= 9.0, "kicks made travelled {mean:.2} m on average");
 }
