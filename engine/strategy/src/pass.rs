@@ -128,7 +128,8 @@ impl PassParams {
         players: &PassField,
     ) -> f64 {
         let along = Own::new(direction.cos(), direction.sin());
-        let Some((stop, travel)) = self.stop_point(ball, along, kick.distance_m, field) else {
+        let rolls = kick.distance_along(along.x, along.y);
+        let Some((stop, travel)) = self.stop_point(ball, along, rolls, field) else {
             return 0.0;
         };
         if travel < 1e-6 {
@@ -163,7 +164,7 @@ impl PassParams {
         let goal = Own::new(field.half_length(), 0.0);
         // -1 (straight back) .. 1 (the kick's whole length towards their goal, or into it).
         let to_goal = ball.distance(goal);
-        let progress = (to_goal - stop.distance(goal)) / kick.distance_m.min(to_goal).max(1.0);
+        let progress = (to_goal - stop.distance(goal)) / rolls.min(to_goal).max(1.0);
         let speed = self.walk_speed_m_s.max(1e-3);
         let first = |of: &[Own]| {
             of.iter()
@@ -218,7 +219,7 @@ impl PassParams {
             let utility = self.utility(ball, direction, field, kick, players);
             let along = Own::new(direction.cos(), direction.sin());
             let target = self
-                .stop_point(ball, along, kick.distance_m, field)
+                .stop_point(ball, along, kick.distance_along(along.x, along.y), field)
                 .map_or(ball, |(stop, _)| stop);
             PassChoice {
                 target,

@@ -140,7 +140,8 @@ impl ShotParams {
         }
         let sigma = kick.direction_sd_deg.to_radians();
         let along = (target - ball).scaled(1.0 / distance);
-        let reaches = phi((kick.distance_m - distance) / kick.distance_sd_m.max(1e-3));
+        let rolls = kick.distance_along(along.x, along.y);
+        let reaches = phi((rolls - distance) / kick.distance_sd_m.max(1e-3));
         let half_goal = field.goal_half_width();
         // Between the posts: the direction error moves the crossing along the goal line.
         let inside = within(

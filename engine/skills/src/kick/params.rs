@@ -31,10 +31,28 @@ pub struct KickParams {
 pub struct KickSpread {
     /// Standard deviation of the direction error [deg].
     pub direction_sd_deg: f64,
-    /// Mean distance the ball travels [m] ...
+    /// Mean distance the ball travels along a field axis [m] ...
     pub distance_m: f64,
     /// ... and its standard deviation [m].
     pub distance_sd_m: f64,
+    /// How much farther a kick along a field diagonal rolls [m]; in between by sin²(2θ) of
+    /// the angle θ to the nearest axis. rcssservermj's ball rolls farther on the diagonals (the
+    /// same curve its friction puts on a kick off an axis).
+    #[serde(default)]
+    pub diagonal_extra_m: f64,
+}
+
+impl KickSpread {
+    /// The mean distance of a kick along `(x, y)` (any length, a field-aligned frame: global
+    /// or a team's own, which differ by 180°) [m].
+    pub fn distance_along(&self, x: f64, y: f64) -> f64 {
+        let r2 = x * x + y * y;
+        if r2 <= 0.0 {
+            return self.distance_m;
+        }
+        let sin_2theta = 2.0 * x * y / r2;
+        self.distance_m + self.diagonal_extra_m * sin_2theta * sin_2theta
+    }
 }
 
 impl Default for KickSpread {
@@ -44,6 +62,7 @@ impl Default for KickSpread {
             direction_sd_deg: 8.0,
             distance_m: 6.0,
             distance_sd_m: 2.0,
+            diagonal_extra_m: 0.0,
         }
     }
 }

@@ -471,3 +471,34 @@ fn a_key_frame_kick_plays_its_frames_mirrored_for_the_left_foot_and_faces_off_by
         now - t
     );
 }
+
+#[test]
+fn a_kick_rolls_its_diagonal_extra_on_a_diagonal_and_nothing_more_along_an_axis() {
+    let spread = KickSpread {
+        direction_sd_deg: 2.0,
+        distance_m: 10.0,
+        distance_sd_m: 1.0,
+        diagonal_extra_m: 3.0,
+    };
+    for (x, y) in [(1.0, 0.0), (0.0, 2.0), (-3.0, 0.0), (0.0, -0.5)] {
+        assert!(
+            (spread.distance_along(x, y) - 10.0).abs() < 1e-12,
+            "({x}, {y})"
+        );
+    }
+    for (x, y) in [(1.0, 1.0), (-2.0, 2.0), (-1.0, -1.0), (0.3, -0.3)] {
+        assert!(
+            (spread.distance_along(x, y) - 13.0).abs() < 1e-12,
+            "({x}, {y})"
+        );
+    }
+    // 22.5 deg off an axis: half the extra (sin^2 45 deg), whichever quadrant.
+    let t = 22.5_f64.to_radians();
+    for (x, y) in [(t.cos(), t.sin()), (-t.sin(), t.cos()), (t.cos(), -t.sin())] {
+        assert!(
+            (spread.distance_along(x, y) - 11.5).abs() < 1e-9,
+            "({x}, {y})"
+        );
+    }
+    assert_eq!(spread.distance_along(0.0, 0.0), 10.0);
+}

@@ -14,6 +14,7 @@ fn t1_kick_skills() -> libero_skills::SkillStatus {
             direction_sd_deg: 2.6,
             distance_m: 11.1,
             distance_sd_m: 1.3,
+            diagonal_extra_m: 0.0,
         },
         ..libero_skills::SkillStatus::default()
     }

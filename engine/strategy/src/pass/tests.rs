@@ -9,6 +9,7 @@ fn spread(sd_deg: f64) -> KickSpread {
         direction_sd_deg: sd_deg,
         distance_m: 11.0,
         distance_sd_m: 1.0,
+        diagonal_extra_m: 0.0,
     }
 }
 

@@ -9,6 +9,7 @@ fn spread(sd_deg: f64) -> KickSpread {
         direction_sd_deg: sd_deg,
         distance_m: 11.0,
         distance_sd_m: 1.0,
+        diagonal_extra_m: 0.0,
     }
 }
 
@@ -130,4 +131,36 @@ fn the_keeper_moves_only_after_its_reaction_time_worked_by_hand() {
         ..ShotParams::default()
     };
     assert!(quick.probability(ball, target, &field(), &spread(2.0), &keeper) < 0.1);
+}
+
+#[test]
+fn a_shot_off_the_field_axes_is_expected_to_roll_farther() {
+    let p = ShotParams::default();
+    // 11.5 m from the far post's target, 27 deg off the x axis: along an axis the 11 +- 1 m
+    // kick reaches it about a third of the time; 2.9 m more on a diagonal (sin^2(54 deg) of it
+    // here, +1.9 m) makes it likely.
+    let ball = Own::new(17.3, -5.2);
+    let target = Own::new(27.5, 0.0);
+    let along_axis = p.probability(ball, target, &field(), &spread(2.0), &Defenders::default());
+    let diagonal = KickSpread {
+        diagonal_extra_m: 2.9,
+        ..spread(2.0)
+    };
+    let with_curve = p.probability(ball, target, &field(), &diagonal, &Defenders::default());
+    let rolls = diagonal.distance_along(target.x - ball.x, target.y - ball.y);
+    assert!((rolls - 11.0 - 2.9 * (2.0 * 27.0_f64.to_radians()).sin().powi(2)).abs() < 0.05);
+    assert!(along_axis < 0.4, "{along_axis}");
+    assert!(with_curve > 0.85, "{with_curve}");
+    // Straight along the axis the term adds nothing.
+    let straight = Own::new(17.3, 0.0);
+    assert_eq!(
+        p.probability(straight, target, &field(), &diagonal, &Defenders::default()),
+        p.probability(
+            straight,
+            target,
+            &field(),
+            &spread(2.0),
+            &Defenders::default()
+        )
+    );
 }
