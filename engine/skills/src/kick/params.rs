@@ -36,8 +36,11 @@ pub struct KickSpread {
     /// ... and its standard deviation [m].
     pub distance_sd_m: f64,
     /// How much farther a kick along a field diagonal rolls [m]; in between by sin²(2θ) of
-    /// the angle θ to the nearest axis. rcssservermj's ball rolls farther on the diagonals (the
-    /// same curve its friction puts on a kick off an axis).
+    /// the angle θ to the nearest axis. rcssservermj's ball rolls farther on the diagonals (its
+    /// friction cone, which also curves a kick off an axis). The world model's `LaunchTable`
+    /// says the same of spin-free monitor launches, by more (10.8 m along an axis is 14.6 m on
+    /// the diagonal there, +3.8); a kicked ball does less, as it curves less (`curve_share`),
+    /// so this is the kick's own measured figure rather than the table's.
     #[serde(default)]
     pub diagonal_extra_m: f64,
 }
