@@ -116,6 +116,7 @@ impl DecisionView {
             | BodyIntent::Dribble {
                 ball,
                 direction_deg,
+                ..
             } => (
                 Some(on_field(ball)),
                 Some(libero_world::geometry::wrap_deg(

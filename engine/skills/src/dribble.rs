@@ -7,6 +7,7 @@
 //! with the line when the direction changes. Lined up, nothing slows it down near the ball.
 
 use crate::kick::approach::{walk_round_ball, Clearance};
+use crate::walk::gait::Foot;
 use crate::walk::params::{in_range, Check};
 use crate::walk::{Velocity, WalkParams};
 use libero_world::geometry::wrap_deg;
@@ -57,6 +58,26 @@ pub struct DribbleParams {
     /// of travel while more than this arc is left [deg]; 360: always the line's heading.
     #[serde(default = "crate::walk::face_travel_off")]
     pub face_travel_beyond_deg: f64,
+    /// When to kick the ball on with a kick step of the walk (`walk.kick_step`) instead of
+    /// walking it on (`None`: never).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kick: Option<DribbleKickParams>,
+}
+
+/// Where the ball must be for a dribble's kick step: ahead of the torso between
+/// `ahead_min_m` and `ahead_max_m` [m] when the step begins, within `across_m` [m] of the
+/// kicking foot's line, the robot facing the dribble's line within `heading_deg` [deg].
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DribbleKickParams {
+    pub ahead_min_m: f64,
+    pub ahead_max_m: f64,
+    pub across_m: f64,
+    pub heading_deg: f64,
+    /// The kicked ball goes straight on when it lies this far inside the kicking foot's
+    /// neutral line (towards the other foot) [m]; the strike shifts the foot across by the
+    /// difference.
+    pub ball_inside_m: f64,
 }
 
 impl Default for DribbleParams {
@@ -82,6 +103,7 @@ impl Default for DribbleParams {
             clearance_m: 0.3,
             circle_radius_m: 0.45,
             face_travel_beyond_deg: crate::walk::face_travel_off(),
+            kick: None,
         }
     }
 }
@@ -123,6 +145,13 @@ impl DribbleParams {
             0.0,
             360.0,
         )?;
+        if let Some(k) = &self.kick {
+            in_range(&p("kick.ahead_min_m"), k.ahead_min_m, 0.0, 1.0)?;
+            in_range(&p("kick.ahead_max_m"), k.ahead_max_m, k.ahead_min_m, 1.0)?;
+            in_range(&p("kick.across_m"), k.across_m, 0.0, 0.3)?;
+            in_range(&p("kick.heading_deg"), k.heading_deg, 0.0, 45.0)?;
+            in_range(&p("kick.ball_inside_m"), k.ball_inside_m, -0.1, 0.1)?;
+        }
         in_range(
             &p("circle_radius_m"),
             self.circle_radius_m,
@@ -152,6 +181,9 @@ pub struct Dribble {
     /// +1: the robot keeps to the left of the ball's line (the ball before its right foot),
     /// −1: to the right.
     side: f64,
+    /// The foot to kick the ball on with this cycle, if it is in place for a kick step, and
+    /// the strike's shift across [m].
+    kick_foot: Option<(Foot, f64)>,
 }
 
 impl Dribble {
@@ -161,6 +193,13 @@ impl Dribble {
 
     pub fn reset(&mut self) {
         self.state = DribbleState::Idle;
+        self.kick_foot = None;
+    }
+
+    /// The foot whose next step should kick the ball on and the strike's shift across (set
+    /// by the last update).
+    pub fn kick_foot(&self) -> Option<(Foot, f64)> {
+        self.kick_foot
     }
 
     /// This cycle's walk command for dribbling the ball at `ball` towards `direction_deg`
@@ -201,8 +240,23 @@ impl Dribble {
                 && off.abs() <= p.capture_across_m.max(cone)
                 && theta.abs() <= p.capture_deg
         };
+        self.kick_foot = None;
         if keeps {
             self.state = DribbleState::Pushing;
+            let foot = if self.side > 0.0 {
+                Foot::Right
+            } else {
+                Foot::Left
+            };
+            let foot_y = foot.sign() * w.foot_y_offset_m;
+            self.kick_foot = p
+                .kick
+                .filter(|k| {
+                    (k.ahead_min_m..=k.ahead_max_m).contains(&b.x)
+                        && (b.y - foot_y).abs() <= k.across_m
+                        && theta.abs() <= k.heading_deg
+                })
+                .map(|k| (foot, b.y - (foot_y - foot.sign() * k.ball_inside_m)));
             let ahead = behind - p.behind_m;
             let speed = if ahead > p.catch_up_beyond_m {
                 p.catch_up_speed_m_s
@@ -320,6 +374,44 @@ mod tests {
         d.update([0.4, beside], 0.0, &p, &w);
         d.update([-0.05, beside], 0.0, &p, &w);
         assert_eq!(d.state(), DribbleState::LiningUp);
+    }
+
+    #[test]
+    fn a_ball_in_place_before_a_foot_asks_for_that_foots_kick_step() {
+        let w = walk();
+        let k = DribbleKickParams {
+            ahead_min_m: 0.24,
+            ahead_max_m: 0.36,
+            across_m: 0.04,
+            heading_deg: 10.0,
+            ball_inside_m: 0.05,
+        };
+        let p = DribbleParams {
+            kick: Some(k),
+            ..DribbleParams::default()
+        };
+        let mut d = Dribble::default();
+        // The robot left of the line: the ball before its right foot, 0.3 m ahead.
+        let right = -w.foot_y_offset_m;
+        d.update([0.3, right], 0.0, &p, &w);
+        let (foot, across) = d.kick_foot().expect("in place");
+        assert_eq!(foot, Foot::Right);
+        // The strike moves the foot out by `ball_inside_m`: the ball ends up inside it.
+        assert!((across + k.ball_inside_m).abs() < 1e-12, "{across}");
+        // Too far ahead, too near, off the foot's line, or the line turned: no kick step.
+        for (ball, direction) in [
+            ([0.5, right], 0.0),
+            ([0.2, right], 0.0),
+            ([0.3, right + 0.06], 0.0),
+            ([0.3, right], 15.0),
+        ] {
+            d.update(ball, direction, &p, &w);
+            assert_eq!(d.kick_foot(), None, "{ball:?} {direction}");
+        }
+        // Without `kick` in the file, never.
+        let mut plain = Dribble::default();
+        plain.update([0.3, right], 0.0, &DribbleParams::default(), &w);
+        assert_eq!(plain.kick_foot(), None);
     }
 
     #[test]

@@ -32,6 +32,7 @@ fn walking_into_a_dribble_and_back_keeps_the_gait_without_a_blend() {
     let dribble = intent(BodyIntent::Dribble {
         ball: [0.6, 0.1],
         direction_deg: 0.0,
+        kick_steps: false,
     });
     let mut step = |skills: &mut Skills, world: &mut World, what: &Intent| {
         world.time += 0.02;

@@ -36,8 +36,14 @@ pub enum BodyIntent {
     /// Dribble the ball at `ball` = (x, y) [m] in the robot frame towards `direction_deg`
     /// (robot frame, + left): line up behind it on that line (round the ball when on the wrong
     /// side), then walk on through it without stopping, steering to keep it in front of the
-    /// feet. The caller recomputes the direction every cycle as the ball moves.
-    Dribble { ball: [f64; 2], direction_deg: f64 },
+    /// feet. The caller recomputes the direction every cycle as the ball moves. With
+    /// `kick_steps`, a ball in place before a foot is kicked on by a kick step of the walk
+    /// (`walk.kick_step`, when `dribble.kick` says where the ball must be) instead of walked on.
+    Dribble {
+        ball: [f64; 2],
+        direction_deg: f64,
+        kick_steps: bool,
+    },
     /// Stand up from lying. Also done automatically whenever the fall detector reports a fall.
     GetUp,
     /// Goalkeeper save: dive to a side or block straight ahead. Starts in the cycle it is

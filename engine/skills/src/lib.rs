@@ -58,6 +58,8 @@ pub struct SkillStatus {
     /// beam straight to the kicking place.
     pub kick_geometry: kick::KickGeometry,
     pub save: SaveState,
+    /// Kick steps the walk has begun (a dribble's kicks; a change says one began).
+    pub kick_steps: u32,
 }
 
 impl Default for SkillStatus {
@@ -69,6 +71,7 @@ impl Default for SkillStatus {
             kick_spread: kick::KickSpread::default(),
             kick_geometry: kick::KickGeometry::default(),
             save: SaveState::Idle,
+            kick_steps: 0,
         }
     }
 }
@@ -195,6 +198,7 @@ impl Skills {
             kick_spread: self.params.kick.measured,
             kick_geometry: kick::KickGeometry::of(&self.params.kick),
             save: self.save.state(),
+            kick_steps: self.walk.kick_steps(),
         }
     }
 
@@ -307,6 +311,7 @@ impl Skills {
             BodyIntent::Dribble {
                 ball,
                 direction_deg,
+                ..
             } if !saving && !settling => {
                 Some(
                     self.dribble
@@ -421,6 +426,10 @@ impl Skills {
             // one the kick motion starts from: changing to the taller standing pose there
             // (and back when the kick starts) tips a robot that has just stopped walking
             // over backwards.
+            let kick_steps =
+                matches!(intent.body, BodyIntent::Dribble { kick_steps, .. } if kick_steps);
+            self.walk
+                .ask_kick_step(self.dribble.kick_foot().filter(|_| kick_steps));
             self.walk
                 .update(world, request, walk_params, &mut self.pose);
             if dribble.is_some() {

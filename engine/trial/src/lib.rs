@@ -12,6 +12,7 @@ pub mod episode;
 pub mod getup_bench;
 pub mod kick_bench;
 pub mod kick_contact;
+pub mod kick_step_bench;
 pub mod measure;
 pub mod optimize;
 pub mod save_bench;

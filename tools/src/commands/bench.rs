@@ -6,7 +6,7 @@ use libero_model::RobotModel;
 use libero_skills::getup::Lying;
 use libero_skills::SkillParams;
 use libero_trial::getup_bench::{self, GET_UP_LIMIT_S};
-use libero_trial::{bench, kick_bench, Trial};
+use libero_trial::{bench, kick_bench, kick_step_bench, Trial};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -18,7 +18,8 @@ pub enum Measure {
     /// roll and position; then one walk after a get-up.
     #[value(name = "getup")]
     GetUp,
-    /// 20 long and 20 short kicks from all round the ball (5 each with `--short`).
+    /// 20 long and 20 short kicks from all round the ball (5 each with `--short`), and 20
+    /// dribbles with the walk's kick step when the skill file has one.
     Kick,
     /// CPU per agent-cycle: `--players` of our agents and as many that only answer, in one
     /// run (`--duration` s of play, 10 with `--short`); the ratio, the server's CPU per cycle
@@ -235,6 +236,21 @@ fn bench_kick(params: &SkillParams, args: &BenchArgs, model: RobotModel) -> CliR
             s.falls,
             s.bumps,
             s.kicks - s.kicked,
+            s.mean_time_to_kick_s
+        );
+    }
+    if params.walk.kick_step.is_some() {
+        let (_, s) = kick_step_bench::dribbles(&mut trial, params, count, args.seed)?;
+        println!(
+            "kick step {} dribbles: {} kick steps made, first one's roll {:.1} m (min {:.1}), \
+             mean |direction error| {:.1}° (max {:.1}°), {} falls, mean time to it {:.1} s",
+            s.dribbles,
+            s.kicked,
+            s.mean_roll_m,
+            s.min_roll_m,
+            s.mean_abs_direction_error_deg,
+            s.max_abs_direction_error_deg,
+            s.falls,
             s.mean_time_to_kick_s
         );
     }

@@ -7,6 +7,7 @@
 //! the torso moving over the support foot. A new command only changes where the next step ends,
 //! so commands change smoothly step by step.
 
+use super::kick_step::KickStepParams;
 use super::params::WalkParams;
 use std::f64::consts::PI;
 
@@ -91,6 +92,9 @@ pub struct Gait {
     end: [FootOffset; 2],
     /// Share of the full lift this step gets (0 for the weight shift that starts a walk).
     lift_scale: f64,
+    /// The swing of this step when it is a kick step, and the shift of the swing foot across
+    /// (+ left) [m] that puts it behind the ball for the strike.
+    kick: Option<(KickStepParams, f64)>,
 }
 
 impl Default for Gait {
@@ -101,6 +105,7 @@ impl Default for Gait {
             start: [FootOffset::default(); 2],
             end: [FootOffset::default(); 2],
             lift_scale: 0.0,
+            kick: None,
         }
     }
 }
@@ -136,6 +141,30 @@ impl Gait {
         }
         self.end[swing.index()] = swing_end;
         self.end[support.index()] = support_end;
+        self.kick = None;
+    }
+
+    /// Start a step like [`Gait::begin_step`] whose swing is the kick step `kick`.
+    /// The swing foot moves `across_m` sideways (+ left) for the strike and back to land.
+    pub fn begin_kick_step(
+        &mut self,
+        swing: Foot,
+        step: Step,
+        kick: KickStepParams,
+        across_m: f64,
+    ) {
+        self.begin_step(swing, step, 1.0);
+        self.kick = Some((kick, across_m));
+    }
+
+    /// The kick step under way, if this step is one.
+    pub fn kick(&self) -> Option<&KickStepParams> {
+        self.kick.as_ref().map(|(k, _)| k)
+    }
+
+    /// How long the current step lasts [s].
+    pub fn period_s(&self, p: &WalkParams) -> f64 {
+        self.kick.map_or(p.step_period_s, |(k, _)| k.period_s)
     }
 
     /// Offsets of both feet at the current phase (no lift, no sway).
@@ -149,6 +178,10 @@ impl Gait {
                 self.phase
             };
             *slot = FootOffset::lerp(self.start[k], self.end[k], s);
+        }
+        if let Some((kick, across)) = &self.kick {
+            out[swing].x = kick.swing_x(self.start[swing].x, self.end[swing].x, self.phase);
+            out[swing].y += across * kick.strike_share(self.phase);
         }
         out
     }
@@ -172,7 +205,10 @@ impl Gait {
         let support_sign = self.swing.other().sign();
         let sway_phase = (self.phase + p.sway_phase_lead).min(1.0);
         let sway = p.sway_m * support_sign * (PI * sway_phase).sin();
-        let lift = self.lift_scale * p.step_height_m * lift_profile(self.phase);
+        let lift = match &self.kick {
+            Some((kick, _)) => kick.swing_z(self.phase),
+            None => self.lift_scale * p.step_height_m * lift_profile(self.phase),
+        };
         let mut out = [SolePlacement {
             x: 0.0,
             y: 0.0,
@@ -245,5 +281,53 @@ mod tests {
         g.begin_step(Foot::Right, step, 1.0);
         g.phase = 1.0;
         assert!(g.feet_together());
+    }
+
+    #[test]
+    fn a_kick_step_swings_past_its_landing_place_and_lands_where_a_step_would() {
+        let kick = KickStepParams {
+            period_s: 0.4,
+            windup_m: 0.06,
+            reach_m: 0.15,
+            lift_m: 0.1,
+            strike_from: 0.4,
+            strike_to: 0.65,
+        };
+        let model = libero_model::RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&model).unwrap().walk;
+        let step = Step {
+            x: 0.1,
+            ..Default::default()
+        };
+        let (mut walking, mut kicking) = (Gait::default(), Gait::default());
+        walking.begin_step(Foot::Left, step, 1.0);
+        kicking.begin_kick_step(Foot::Left, step, kick, -0.03);
+        assert_eq!(kicking.period_s(&p), 0.4);
+        assert_eq!(walking.period_s(&p), p.step_period_s);
+        let mid_strike = 0.5 * (kick.strike_from + kick.strike_to);
+        kicking.phase = mid_strike;
+        walking.phase = mid_strike;
+        let (k, w) = (kicking.placements(&p)[0], walking.placements(&p)[0]);
+        // Up at the strike's height, and moved across by the asked shift.
+        assert!(
+            (k.z + p.torso_height_m - kick.lift_m).abs() < 1e-12,
+            "{k:?}"
+        );
+        assert!((k.y - (w.y - 0.03)).abs() < 1e-12, "{k:?} {w:?}");
+        kicking.phase = kick.strike_to;
+        assert!((kicking.current_offsets()[0].x - (0.05 + kick.reach_m)).abs() < 1e-12);
+        // Landing: where the plain step lands, and the support foot is where it would be.
+        kicking.phase = 1.0;
+        walking.phase = 1.0;
+        let near = |a: SolePlacement, b: SolePlacement| {
+            [a.x - b.x, a.y - b.y, a.z - b.z, a.yaw_deg - b.yaw_deg]
+                .iter()
+                .all(|d| d.abs() < 1e-12)
+        };
+        let (k, w) = (kicking.placements(&p), walking.placements(&p));
+        assert!(near(k[0], w[0]) && near(k[1], w[1]), "{k:?} {w:?}");
+        // The next step is a plain one again.
+        kicking.begin_step(Foot::Right, step, 1.0);
+        assert!(kicking.kick().is_none());
     }
 }

@@ -52,6 +52,9 @@ pub struct WalkParams {
     pub leg_gains: BTreeMap<String, Gains>,
     pub balance: BalanceParams,
     pub walk_to: WalkToParams,
+    /// The kick step a dribble may ask for (`None`: the walk has none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kick_step: Option<super::kick_step::KickStepParams>,
 }
 
 /// The IMU feedback loop. Torso pitch/roll come from the low-passed accelerometer, rates from
@@ -205,6 +208,9 @@ impl WalkParams {
         )?;
         if let Some(decel) = self.decel_forward_m_s2 {
             in_range(&format!("{w}.decel_forward_m_s2"), decel, 0.01, 10.0)?;
+        }
+        if let Some(k) = &self.kick_step {
+            k.validate()?;
         }
         in_range(
             &format!("{w}.accel_sideways_m_s2"),

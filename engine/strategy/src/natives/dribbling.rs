@@ -26,6 +26,13 @@ fn dribble_to_ports() -> NodeSpec {
             .doc("the ball this close to the target is there"),
     )
     .param(
+        ParamSpec::new("kick_beyond", ValueType::Float)
+            .unit("m")
+            .range(0.0, 1000.0)
+            .default(Value::Float(1000.0))
+            .doc("while the ball is farther than this from the target, kick it on with kick steps of the walk (the skill's `walk.kick_step`) instead of walking it on; the default: never"),
+    )
+    .param(
         ParamSpec::new("lost_after", ValueType::Float)
             .unit("s")
             .range(0.5, 30.0)
@@ -38,12 +45,19 @@ fn dribble_to(host: &mut AgentHost, ports: &Ports) -> Status {
     host.dribble_to(
         own(ports.vec2("target")),
         ports.float("tolerance"),
+        ports.float("kick_beyond"),
         ports.float("lost_after"),
     )
 }
 
 impl AgentHost<'_> {
-    pub(crate) fn dribble_to(&mut self, target: Own, tolerance: f64, lost_after: f64) -> Status {
+    pub(crate) fn dribble_to(
+        &mut self,
+        target: Own,
+        tolerance: f64,
+        kick_beyond: f64,
+        lost_after: f64,
+    ) -> Status {
         let world = self.world;
         let ball_age = world.ball.age(world.time);
         if ball_age > lost_after {
@@ -86,6 +100,7 @@ impl AgentHost<'_> {
         self.intent.body = BodyIntent::Dribble {
             ball: world.ball_relative(libero_world::FRESH_BALL_SIGHTING_S),
             direction_deg: heading.to_degrees(),
+            kick_steps: ball.distance(target) > kick_beyond,
         };
         Status::Running
     }
