@@ -343,12 +343,8 @@ impl AgentHost<'_> {
         // Only a pass still on its way: a ball nudged at the robot's feet (the tracker fits a
         // short roll from the touch) is kicked as it lies; waiting beside it, the robot
         // stood at the ball for 2 minutes (NOTES.md, session 16).
-        // And only for a robot the ball comes towards: one behind it (the kicker of a
-        // dribble's kick step, following its ball) walks on behind the ball as for any roll.
-        let comes_towards_me = (me - ball).x * path.x + (me - ball).y * path.y > 0.0;
-        let pass_on_its_way = length > WAIT_FOR_PASS_BEYOND_M
-            && me.distance(ball) > avoidance.handover_m
-            && comes_towards_me;
+        let pass_on_its_way =
+            length > WAIT_FOR_PASS_BEYOND_M && me.distance(ball) > avoidance.handover_m;
         if pass_on_its_way
             && self.ball_rolls()
             && self.our_kick()
