@@ -255,6 +255,28 @@ impl Trial {
         Arc::clone(&self.status)
     }
 
+    /// The ball's resting height on this server's field: its centre one radius up [m].
+    pub fn ball_rest_z_m(&self) -> f64 {
+        libero_model::FieldGeometry::builtin(self.model.server.default_field())
+            .expect("shipped fields are valid")
+            .ball_radius
+    }
+
+    /// The monitor command that puts the ball at rest at `at` (world frame).
+    pub fn ball_placement(&self, at: [f64; 2]) -> String {
+        format!(
+            "(ball (pos {} {} {})(vel 0 0 0))",
+            at[0],
+            at[1],
+            self.ball_rest_z_m()
+        )
+    }
+
+    /// The torso below this height [m] (ground truth) is a fallen robot.
+    pub fn fallen_below_m(&self) -> f64 {
+        self.model.standing_torso_height * FALLEN_SHARE_OF_STANDING
+    }
+
     pub fn server(&self) -> &ServerProcess {
         &self.server
     }

@@ -177,16 +177,9 @@ pub fn kick_once(
     let status = trial.skill_status();
     let progress = Arc::new(Mutex::new(Progress::default()));
     let shared = Arc::clone(&progress);
-    // Resting on the ground: the ball's centre one radius up.
-    let ball_z_m = libero_model::FieldGeometry::builtin(trial.model().server.default_field())
-        .expect("shipped fields are valid")
-        .ball_radius;
-    let fallen_below_m =
-        trial.model().standing_torso_height * crate::episode::FALLEN_SHARE_OF_STANDING;
-    let place_ball = format!(
-        "(ball (pos {} {} {ball_z_m})(vel 0 0 0))",
-        setup.ball[0], setup.ball[1]
-    );
+    let ball_z_m = trial.ball_rest_z_m();
+    let fallen_below_m = trial.fallen_below_m();
+    let place_ball = trial.ball_placement(setup.ball);
     let mut placed_at: Option<f64> = None;
     // Server time of the last placement command: sightings before it show the old spot.
     let mut placed_world_time = f64::INFINITY;

@@ -3,7 +3,7 @@
 //! began, where the ball was then (in the robot's frame), how far and in which direction it
 //! rolled, and whether the robot fell.
 
-use crate::episode::{Episode, Trial, TrialError, FALLEN_SHARE_OF_STANDING};
+use crate::episode::{Episode, Trial, TrialError};
 use libero_skills::{BodyIntent, HeadIntent, Intent, SkillParams};
 use libero_world::geometry::wrap_deg;
 use libero_world::World;
@@ -59,14 +59,8 @@ pub fn kick_step_once(
     let status = trial.skill_status();
     let progress = Arc::new(Mutex::new(Progress::default()));
     let shared = Arc::clone(&progress);
-    let ball_z_m = libero_model::FieldGeometry::builtin(trial.model().server.default_field())
-        .expect("shipped fields are valid")
-        .ball_radius;
-    let fallen_below_m = trial.model().standing_torso_height * FALLEN_SHARE_OF_STANDING;
-    let place_ball = format!(
-        "(ball (pos {} {} {ball_z_m})(vel 0 0 0))",
-        setup.ball[0], setup.ball[1]
-    );
+    let fallen_below_m = trial.fallen_below_m();
+    let place_ball = trial.ball_placement(setup.ball);
     let mut placed = false;
     let script = move |world: &World, t: f64| -> Option<Intent> {
         let truth = monitor.lock().ok().and_then(|m| m.snapshot().ball);

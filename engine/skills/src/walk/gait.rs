@@ -285,14 +285,7 @@ mod tests {
 
     #[test]
     fn a_kick_step_swings_past_its_landing_place_and_lands_where_a_step_would() {
-        let kick = KickStepParams {
-            period_s: 0.4,
-            windup_m: 0.06,
-            reach_m: 0.15,
-            lift_m: 0.1,
-            strike_from: 0.4,
-            strike_to: 0.65,
-        };
+        let kick = crate::walk::kick_step::example();
         let model = libero_model::RobotModel::builtin("T1").unwrap();
         let p = crate::SkillParams::builtin(&model).unwrap().walk;
         let step = Step {

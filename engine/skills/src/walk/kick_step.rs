@@ -86,6 +86,19 @@ impl KickStepParams {
     }
 }
 
+/// A kick step for the walk's unit tests (the shape shipped for the T1).
+#[cfg(test)]
+pub(crate) fn example() -> KickStepParams {
+    KickStepParams {
+        period_s: 0.4,
+        windup_m: 0.06,
+        reach_m: 0.15,
+        lift_m: 0.11,
+        strike_from: 0.4,
+        strike_to: 0.65,
+    }
+}
+
 /// From `a` to `b` as `s` goes 0 → 1, starting and ending at rest.
 fn ease(a: f64, b: f64, s: f64) -> f64 {
     a + (b - a) * (0.5 - 0.5 * (PI * s.clamp(0.0, 1.0)).cos())

@@ -184,14 +184,7 @@ fn one_axis_gets_its_full_limit_and_combinations_share_it() {
 fn a_kick_step_begins_only_when_asked_of_the_foot_that_swings_next() {
     let model = RobotModel::builtin("T1").unwrap();
     let mut p = crate::SkillParams::builtin(&model).unwrap().walk;
-    p.kick_step = Some(kick_step::KickStepParams {
-        period_s: 0.4,
-        windup_m: 0.06,
-        reach_m: 0.15,
-        lift_m: 0.1,
-        strike_from: 0.4,
-        strike_to: 0.65,
-    });
+    p.kick_step = Some(kick_step::example());
     let mut world = libero_world::World::new(&model, "t", 1);
     world.me.pitch_deg = p.torso_lean_deg;
     let ahead = Velocity {
