@@ -223,7 +223,7 @@ impl Arena {
     /// down standing by the server while its own fall detector still said lying: the get-up
     /// it then started from standing threw it over, again at every placement, and pass.ron's
     /// series stopped with "did not stand still after four placements" (NOTES.md, session 33).
-    fn wait_for_motions_to_end(&self) -> Result<(), RunError> {
+    fn wait_until_standing_still(&self) -> Result<(), RunError> {
         self.wait_while(self.now() + 15.0, || !self.all_standing_still())
     }
 
@@ -303,7 +303,7 @@ impl Arena {
         // in a get-up or save from the run before (one set of agents serves the series) is
         // waited for, and a placement that ends in a fall is made again.
         for attempt in 0.. {
-            self.wait_for_motions_to_end()?;
+            self.wait_until_standing_still()?;
             self.place(setup)?;
             self.wait_until(self.now() + scenario.settle_s)?;
             if self.all_standing_still() {

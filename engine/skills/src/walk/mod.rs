@@ -181,15 +181,6 @@ impl Walk {
         self.phase == Phase::Walking && self.gait.kick().is_some()
     }
 
-    /// The foot that swings next (or is swinging now).
-    pub fn next_swing(&self) -> Foot {
-        if self.phase == Phase::Walking {
-            self.gait.swing.other()
-        } else {
-            self.gait.swing
-        }
-    }
-
     /// True while steps are being made (including the closing steps after a stop request).
     pub fn is_stepping(&self) -> bool {
         self.phase == Phase::Walking
