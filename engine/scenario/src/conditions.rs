@@ -12,6 +12,7 @@ const SUCCESS_NAMES: &[&str] = &[
     "PassReceived",
     "BallMoved",
     "NoCollision",
+    "ShotOnTarget",
     "All",
     "Any",
 ];
@@ -67,13 +68,18 @@ pub(crate) fn success(
                 }
             })
         }
-        "BallMoved" => {
-            let mut f = d.fields(node, "BallMoved")?;
+        "BallMoved" | "ShotOnTarget" => {
+            let mut f = d.fields(node, name)?;
             let min = f
                 .require(d, "min_m")
                 .and_then(|n| d.float_in_unit(n, 0.05, 60.0, "m"));
             f.finish(d, &["min_m"]);
-            Some(Success::BallMoved { min_m: min? })
+            let min_m = min?;
+            Some(if name == "BallMoved" {
+                Success::BallMoved { min_m }
+            } else {
+                Success::ShotOnTarget { min_m }
+            })
         }
         "NoCollision" => {
             let mut f = d.fields(node, "NoCollision")?;

@@ -8,6 +8,7 @@
 //! succeed and pending ones fail.
 
 use crate::pass_judge::PassTrack;
+use crate::shot_judge::{GoalMouth, ShotTrack};
 use crate::spec::Success;
 use libero_world::params::BallParams;
 
@@ -52,16 +53,22 @@ enum Node {
     Leaf {
         condition: Success,
         state: Verdict,
-        /// The ball model's view of a pass (`PassReceived` only).
-        track: Option<Box<PassTrack>>,
+        /// The ball model's view of a pass or a shot (`PassReceived`, `ShotOnTarget`).
+        track: Option<Track>,
     },
     All(Vec<Node>),
     Any(Vec<Node>),
 }
 
+enum Track {
+    Pass(Box<PassTrack>),
+    Shot(Box<ShotTrack>),
+}
+
 /// A run's judge: feed it observations, read the verdict.
 pub struct Judge {
     root: Node,
+    goal: GoalMouth,
     /// Where the ball was at the launch.
     ball_start: Option<[f64; 2]>,
     /// Closest approach of two torsos so far [m], and who.
@@ -70,10 +77,11 @@ pub struct Judge {
 
 impl Judge {
     /// A judge of `success`; `ball` is the world model's ball (a pass's stop point is its
-    /// prediction).
-    pub fn new(success: &Success, ball: &BallParams) -> Self {
+    /// prediction), `goal` the one our team attacks.
+    pub fn new(success: &Success, ball: &BallParams, goal: GoalMouth) -> Self {
         Self {
             root: build(success, ball),
+            goal,
             ball_start: None,
             closest: None,
         }
@@ -90,14 +98,17 @@ impl Judge {
                 self.closest = Some((gap, who.clone()));
             }
         }
-        let start = self.ball_start;
+        let (start, goal) = (self.ball_start, self.goal);
         visit(&mut self.root, &mut |condition, state, track| {
             if state.decided() {
                 return;
             }
             *state = match (condition, track) {
-                (Success::PassReceived { receiver, within_m }, Some(track)) => {
+                (Success::PassReceived { receiver, within_m }, Some(Track::Pass(track))) => {
                     track.observe(o, *receiver, *within_m, state)
+                }
+                (Success::ShotOnTarget { min_m }, Some(Track::Shot(track))) => {
+                    track.observe(o, &goal, *min_m, state)
                 }
                 _ => leaf(condition, state, o, start, pair.as_ref()),
             };
@@ -135,19 +146,22 @@ fn build(s: &Success, ball: &BallParams) -> Node {
                 Success::BallKeptOut | Success::NoCollision { .. } => Verdict::Holding,
                 _ => Verdict::Pending,
             },
-            track: matches!(leaf, Success::PassReceived { .. })
-                .then(|| Box::new(PassTrack::new(ball))),
+            track: match leaf {
+                Success::PassReceived { .. } => Some(Track::Pass(Box::new(PassTrack::new(ball)))),
+                Success::ShotOnTarget { .. } => Some(Track::Shot(Box::default())),
+                _ => None,
+            },
         },
     }
 }
 
-fn visit(node: &mut Node, f: &mut impl FnMut(&Success, &mut Verdict, Option<&mut PassTrack>)) {
+fn visit(node: &mut Node, f: &mut impl FnMut(&Success, &mut Verdict, Option<&mut Track>)) {
     match node {
         Node::Leaf {
             condition,
             state,
             track,
-        } => f(condition, state, track.as_deref_mut()),
+        } => f(condition, state, track.as_mut()),
         Node::All(parts) | Node::Any(parts) => parts.iter_mut().for_each(|p| visit(p, f)),
     }
 }
@@ -292,7 +306,14 @@ mod tests {
     }
 
     fn judge(s: &Success) -> Judge {
-        Judge::new(s, &libero_world::WorldParams::builtin().ball)
+        Judge::new(
+            s,
+            &libero_world::WorldParams::builtin().ball,
+            GoalMouth {
+                line_x: 27.5,
+                half_width: 1.83,
+            },
+        )
     }
 
     #[test]

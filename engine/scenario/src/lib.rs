@@ -31,6 +31,7 @@ pub mod judge;
 pub mod load;
 mod pass_judge;
 pub mod run;
+pub mod shot_judge;
 pub mod spec;
 pub mod summary;
 

@@ -275,27 +275,55 @@ fn robot(
     ))
 }
 
-/// A robot's place: a field point, or `FromBall(dx: .., dy: ..)` (an offset from the ball's
-/// spot) whose every draw lands on the field.
+/// A robot's place: a field point, `FromBall(dx: .., dy: ..)` (an offset from the ball's spot)
+/// or `AroundBall(distance_m: .., bearing_deg: ..)`, whose every draw lands on the field.
 fn place(
     d: &mut Decoder,
     node: &Node,
     field: &FieldGeometry,
     ball: Option<&BallSpec>,
 ) -> Option<Place> {
-    if head(node).map(|(n, _)| n) != Some("FromBall") {
+    let kind = head(node).map(|(n, _)| n);
+    if kind != Some("FromBall") && kind != Some("AroundBall") {
         return on_field(d, node, field, 0.0).map(Place::At);
     }
-    let mut f = d.fields(node, "FromBall")?;
-    let dx = f.require(d, "dx").and_then(|n| num(d, n, -60.0, 60.0, "m"));
-    let dy = f.require(d, "dy").and_then(|n| num(d, n, -60.0, 60.0, "m"));
-    f.finish(d, &["dx", "dy"]);
-    let (dx, dy) = (dx?, dy?);
+    let (place, (dx_lo, dx_hi), (dy_lo, dy_hi)) = if kind == Some("FromBall") {
+        let mut f = d.fields(node, "FromBall")?;
+        let dx = f.require(d, "dx").and_then(|n| num(d, n, -60.0, 60.0, "m"));
+        let dy = f.require(d, "dy").and_then(|n| num(d, n, -60.0, 60.0, "m"));
+        f.finish(d, &["dx", "dy"]);
+        let (dx, dy) = (dx?, dy?);
+        (
+            Place::FromBall { dx, dy },
+            (dx.lo(), dx.hi()),
+            (dy.lo(), dy.hi()),
+        )
+    } else {
+        let mut f = d.fields(node, "AroundBall")?;
+        let distance = f
+            .require(d, "distance_m")
+            .and_then(|n| num(d, n, 0.0, 60.0, "m"));
+        let bearing = f
+            .require(d, "bearing_deg")
+            .and_then(|n| num(d, n, -360.0, 360.0, "deg"));
+        f.finish(d, &["distance_m", "bearing_deg"]);
+        let (distance_m, bearing_deg) = (distance?, bearing?);
+        // Checked against the square round the farthest draw: a little stricter than the arc.
+        let r = distance_m.hi();
+        (
+            Place::AroundBall {
+                distance_m,
+                bearing_deg,
+            },
+            (-r, r),
+            (-r, r),
+        )
+    };
     // Without a valid ball there is nothing to check the offset against (its error is reported).
     let ball = ball?;
     let (hx, hy) = field.half_extent();
-    let (x_lo, x_hi) = (ball.at.x.lo() + dx.lo(), ball.at.x.hi() + dx.hi());
-    let (y_lo, y_hi) = (ball.at.y.lo() + dy.lo(), ball.at.y.hi() + dy.hi());
+    let (x_lo, x_hi) = (ball.at.x.lo() + dx_lo, ball.at.x.hi() + dx_hi);
+    let (y_lo, y_hi) = (ball.at.y.lo() + dy_lo, ball.at.y.hi() + dy_hi);
     if x_lo < -hx || x_hi > hx || y_lo < -hy || y_hi > hy {
         d.error_hint(
             "off-field",
@@ -308,7 +336,7 @@ fn place(
         );
         return None;
     }
-    Some(Place::FromBall { dx, dy })
+    Some(place)
 }
 
 /// A fixed number or `Range(lo, hi)` with both ends within [min, max].

@@ -319,3 +319,40 @@ fn the_shipped_scenarios_are_valid() {
     let report = crate::validate_files(&files);
     assert!(report.diagnostics.is_empty(), "{}", report.render_text());
 }
+
+#[test]
+fn robots_placed_round_the_ball_and_a_shot_on_target_condition() {
+    let text = GOOD
+        .replace(
+            "at: (-14.0, Range(-2.0, 2.0))",
+            "at: AroundBall(distance_m: Range(2.0, 6.0), bearing_deg: Range(-180.0, 180.0))",
+        )
+        .replace(
+            "success: All([BallKeptOut, NoCollision(min_distance_m: 0.45)])",
+            "success: ShotOnTarget(min_m: 6.0)",
+        );
+    let (s, report) = check(&text);
+    assert!(!report.has_errors(), "{}", report.render_text());
+    let s = s.unwrap();
+    assert_eq!(s.success, Success::ShotOnTarget { min_m: 6.0 });
+    assert_eq!(s.success.describe(), "ShotOnTarget(min_m: 6)");
+    let ball = WorldParams::builtin().ball;
+    let mut sides = [false; 4];
+    for i in 0..40 {
+        let r = s.draw(5, i, &ball);
+        let (dx, dy) = (
+            r.theirs[0].pose[0] - r.ball[0],
+            r.theirs[0].pose[1] - r.ball[1],
+        );
+        let d = dx.hypot(dy);
+        assert!((2.0 - 1e-9..=6.0 + 1e-9).contains(&d), "{d}");
+        sides[usize::from(dx > 0.0) * 2 + usize::from(dy > 0.0)] = true;
+    }
+    assert_eq!(sides, [true; 4], "drawn on every side of the ball");
+    // A ring that reaches off the field is refused where it is written.
+    let text = GOOD.replace(
+        "at: (-14.0, Range(-2.0, 2.0))",
+        "at: AroundBall(distance_m: 8.0, bearing_deg: 180.0)",
+    );
+    assert_eq!(one_error(&text), ("off-field".into(), "6:33".into()));
+}

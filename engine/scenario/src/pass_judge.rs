@@ -11,7 +11,7 @@ use libero_world::BallEstimate;
 use nalgebra::Vector3;
 
 /// A torso this close to the ball centre is a touch [m] (foot ahead of the torso, ball radius).
-const TOUCH_M: f64 = 0.4;
+pub(crate) const TOUCH_M: f64 = 0.4;
 
 pub struct PassTrack {
     ball: BallEstimate,
@@ -99,7 +99,13 @@ fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
 mod tests {
     use super::*;
     use crate::judge::Judge;
+    use crate::shot_judge::GoalMouth;
     use crate::spec::Success;
+
+    const GOAL: GoalMouth = GoalMouth {
+        line_x: 27.5,
+        half_width: 1.83,
+    };
 
     /// A ball rolling along +x from the origin, slowing evenly at `decel` from `v0`, sampled
     /// every 20 ms like the monitor; the receiver waits at `receiver_x` on the line.
@@ -139,7 +145,7 @@ mod tests {
         let ball = libero_world::WorldParams::builtin().ball;
         // 4 m/s slowing at 0.8 m/s²: stops 10 m on, after 5 s. The world model's own ball
         // tracker predicts that rest point from the first half second of the roll.
-        let mut judge = Judge::new(&pass(1.0), &ball);
+        let mut judge = Judge::new(&pass(1.0), &ball, GOAL);
         let v = roll(&mut judge, 4.0, 0.8, [10.2, 0.1]);
         assert!(matches!(v, Verdict::Succeeded { .. }), "{v:?}");
     }
@@ -148,14 +154,14 @@ mod tests {
     fn a_touch_far_short_of_the_stop_point_is_no_reception() {
         let ball = libero_world::WorldParams::builtin().ball;
         // The receiver stands 4 m short of where the ball would stop: the ball runs into it.
-        let mut judge = Judge::new(&pass(1.0), &ball);
+        let mut judge = Judge::new(&pass(1.0), &ball, GOAL);
         let v = roll(&mut judge, 4.0, 0.8, [6.0, 0.0]);
         assert!(
             matches!(&v, Verdict::Failed { why, .. } if why.contains("predicted stop point")),
             "{v:?}"
         );
         // Nobody near the ball's path: never received.
-        let mut judge = Judge::new(&pass(1.0), &ball);
+        let mut judge = Judge::new(&pass(1.0), &ball, GOAL);
         let v = roll(&mut judge, 4.0, 0.8, [5.0, 6.0]);
         assert!(
             matches!(&v, Verdict::Failed { why, .. } if why.contains("not met")),
@@ -166,7 +172,7 @@ mod tests {
     #[test]
     fn a_bump_before_the_pass_is_not_the_pass() {
         let ball = libero_world::WorldParams::builtin().ball;
-        let mut judge = Judge::new(&pass(1.0), &ball);
+        let mut judge = Judge::new(&pass(1.0), &ball, GOAL);
         // The passer nudges the ball 0.4 m on its approach (it stops again), then passes:
         // 4 m/s slowing at 0.8 m/s², stopping 10 m on at (10.4, 0), where player 4 waits.
         let at = |t: f64| -> f64 {

@@ -335,11 +335,16 @@ impl Arena {
             .into_iter()
             .flat_map(|ours| self.truth(ours).into_iter().map(move |(u, p)| (ours, u, p)))
             .collect();
-        let mut judge = Judge::new(&scenario.success, &self.ball);
+        let mut judge = Judge::new(
+            &scenario.success,
+            &self.ball,
+            crate::shot_judge::GoalMouth::of(&scenario.field),
+        );
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
         let mut last_in_play = None;
         let mut falls = FallCounter::new(self.robots.len());
+        let mut first_touch = None;
         // Whether play had stopped when the run ended (a goal, the ball out, a free kick).
         let mut play_stopped;
         let (verdict, ended) = loop {
@@ -376,6 +381,9 @@ impl Arena {
             play_stopped = t > 0.1 && s.play_mode != "PlayOn";
             if s.play_mode == "PlayOn" {
                 last_in_play = s.ball.map(|b| [b[0], b[1]]);
+            }
+            if first_touch.is_none() && touches_ball(&o) {
+                first_touch = Some(t);
             }
             judge.observe(&o);
             let v = judge.verdict();
@@ -439,6 +447,7 @@ impl Arena {
             goals_for: s.score_left.saturating_sub(start.score_left),
             goals_against: s.score_right.saturating_sub(start.score_right),
             closest_m: judge.closest.map(|(g, _)| g),
+            first_touch_s: first_touch,
             ball_travel_m: measure.max_travel,
             goal_line_y: measure.goal_line_crossing(play_stopped),
             ball_end: last_in_play,
@@ -454,6 +463,16 @@ impl Arena {
         }
         self.server.stop();
     }
+}
+
+/// One of our torsos within reach of the ball (ground plane).
+fn touches_ball(o: &Observation) -> bool {
+    use crate::pass_judge::TOUCH_M;
+    o.ball.is_some_and(|b| {
+        o.ours
+            .iter()
+            .any(|(_, p)| (b[0] - p[0]).hypot(b[1] - p[1]) <= TOUCH_M)
+    })
 }
 
 fn describe_end(v: &Verdict) -> String {

@@ -69,7 +69,15 @@ impl Play {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Place {
     At(Point),
-    FromBall { dx: Num, dy: Num },
+    FromBall {
+        dx: Num,
+        dy: Num,
+    },
+    /// `distance_m` from the ball's spot in the field direction `bearing_deg` (0° = +x).
+    AroundBall {
+        distance_m: Num,
+        bearing_deg: Num,
+    },
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -113,6 +121,9 @@ pub enum Success {
     BallMoved { min_m: f64 },
     /// No torso of ours ever closer than `min_distance_m` to another torso (ground plane).
     NoCollision { min_distance_m: f64 },
+    /// A kick sends the ball at least `min_m` from where it lay towards their goal, on a line
+    /// that crosses their goal line between the posts.
+    ShotOnTarget { min_m: f64 },
     /// Every part holds.
     All(Vec<Success>),
     /// At least one part holds.
@@ -142,6 +153,7 @@ impl Success {
             Success::NoCollision { min_distance_m } => {
                 format!("NoCollision(min_distance_m: {min_distance_m})")
             }
+            Success::ShotOnTarget { min_m } => format!("ShotOnTarget(min_m: {min_m})"),
             Success::All(parts) => format!("All([{}])", list(parts)),
             Success::Any(parts) => format!("Any([{}])", list(parts)),
         }
@@ -213,6 +225,13 @@ impl Scenario {
                     let [x, y] = match r.at {
                         Place::At(p) => p.draw(rng),
                         Place::FromBall { dx, dy } => [at[0] + dx.draw(rng), at[1] + dy.draw(rng)],
+                        Place::AroundBall {
+                            distance_m,
+                            bearing_deg,
+                        } => {
+                            let (d, b) = (distance_m.draw(rng), bearing_deg.draw(rng).to_radians());
+                            [at[0] + d * b.cos(), at[1] + d * b.sin()]
+                        }
                     };
                     Placement {
                         unum: r.unum,

@@ -12,6 +12,20 @@ pub struct LaunchMeasure {
     pub mean_speed_m_s: f64,
 }
 
+/// The median of `times`, a `None` counting as longer than any time; `None` if that median
+/// is one.
+pub fn median_with_never(times: impl Iterator<Item = Option<f64>>) -> Option<f64> {
+    let mut t: Vec<f64> = times.map(|t| t.unwrap_or(f64::INFINITY)).collect();
+    t.sort_by(f64::total_cmp);
+    let n = t.len();
+    let median = match n {
+        0 => return None,
+        n if n % 2 == 1 => t[n / 2],
+        n => 0.5 * (t[n / 2 - 1] + t[n / 2]),
+    };
+    median.is_finite().then_some(median)
+}
+
 /// A torso higher than this stands (walking height is about 0.6 m, lying below 0.3 m).
 pub(crate) const STANDING_TORSO_Z_M: f64 = 0.5;
 /// A torso lower than this has fallen (counted again once it stood up).
@@ -82,6 +96,8 @@ pub struct RunOutcome {
     pub goals_against: u32,
     /// Closest approach of two torsos [m].
     pub closest_m: Option<f64>,
+    /// Seconds from the launch until one of our torsos first came within reach of the ball.
+    pub first_touch_s: Option<f64>,
     /// Farthest the ball got from its placement [m].
     pub ball_travel_m: f64,
     /// Where the ball first crossed a goal line (y [m]), if it did.
@@ -132,6 +148,7 @@ struct JsonRun {
     goals_for: u32,
     goals_against: u32,
     closest_m: Option<f64>,
+    first_touch_s: Option<f64>,
     robots: Vec<RobotTravel>,
     ours: Vec<JsonPlacement>,
     theirs: Vec<JsonPlacement>,
@@ -147,6 +164,8 @@ struct JsonSummary<'a> {
     successes: usize,
     success_rate: f64,
     median_time_s: Option<f64>,
+    median_time_all_runs_s: Option<f64>,
+    median_first_touch_s: Option<f64>,
     mean_time_s: Option<f64>,
     wall_s: f64,
     per_run: Vec<JsonRun>,
@@ -189,6 +208,18 @@ impl Summary {
             n if n % 2 == 1 => Some(t[n / 2]),
             n => Some(0.5 * (t[n / 2 - 1] + t[n / 2])),
         }
+    }
+
+    /// The median over every run, a failure counting as never: `None` when at least half
+    /// the runs failed (or there are none).
+    pub fn median_time_all_runs_s(&self) -> Option<f64> {
+        median_with_never(self.runs.iter().map(|r| r.time_s))
+    }
+
+    /// The median time to our first touch of the ball over every run, a run without one
+    /// counting as never.
+    pub fn median_first_touch_s(&self) -> Option<f64> {
+        median_with_never(self.runs.iter().map(|r| r.first_touch_s))
     }
 
     pub fn mean_time_s(&self) -> Option<f64> {
@@ -240,6 +271,9 @@ impl Summary {
         if let Some(c) = r.closest_m {
             line.push_str(&format!(", closest torsos {c:.2} m"));
         }
+        if let Some(t) = r.first_touch_s {
+            line.push_str(&format!(", first touch at {t:.2} s"));
+        }
         let moved: Vec<String> = r
             .robots
             .iter()
@@ -280,6 +314,20 @@ impl Summary {
             "mean time to success: {}\n",
             fmt(self.mean_time_s())
         ));
+        let never = |t: Option<f64>| {
+            t.map_or_else(
+                || "never (half the runs or more)".into(),
+                |t| format!("{t:.2} s"),
+            )
+        };
+        out.push_str(&format!(
+            "median time over all runs (a failure counts as never): {}\n",
+            never(self.median_time_all_runs_s())
+        ));
+        out.push_str(&format!(
+            "median time to our first touch of the ball: {}\n",
+            never(self.median_first_touch_s())
+        ));
         out.push_str(&format!("wall time: {:.1} s\n", self.wall_s));
         for r in &self.runs {
             out.push_str(&Self::run_line(r));
@@ -310,6 +358,7 @@ impl Summary {
                 goals_for: r.goals_for,
                 goals_against: r.goals_against,
                 closest_m: r.closest_m,
+                first_touch_s: r.first_touch_s,
                 robots: r.robots.clone(),
                 ours: placements(&r.setup.ours),
                 theirs: placements(&r.setup.theirs),
@@ -324,6 +373,8 @@ impl Summary {
             successes: self.successes(),
             success_rate: self.success_rate(),
             median_time_s: self.median_time_s(),
+            median_time_all_runs_s: self.median_time_all_runs_s(),
+            median_first_touch_s: self.median_first_touch_s(),
             mean_time_s: self.mean_time_s(),
             wall_s: self.wall_s,
             per_run,
@@ -344,5 +395,19 @@ mod fall_tests {
         }
         c.observe(1, None);
         assert_eq!((c.of(0), c.of(1)), (2, 0));
+    }
+}
+
+#[cfg(test)]
+mod median_tests {
+    use super::median_with_never;
+
+    #[test]
+    fn a_run_that_never_got_there_counts_as_longer_than_any() {
+        let m = |v: &[Option<f64>]| median_with_never(v.iter().copied());
+        assert_eq!(m(&[Some(3.0), None, Some(1.0)]), Some(3.0));
+        assert_eq!(m(&[Some(3.0), Some(5.0), None, Some(1.0)]), Some(4.0));
+        assert_eq!(m(&[Some(3.0), None, None, Some(1.0)]), None);
+        assert_eq!(m(&[]), None);
     }
 }
