@@ -104,21 +104,11 @@ mod tests {
         let mut judge = Judge::new(&Success::ShotOnTarget { min_m: 6.0 }, &ball, GOAL);
         let (dx, dy) = (towards[0] - from[0], towards[1] - from[1]);
         let n = dx.hypot(dy);
-        let mut spot = from;
-        let mut t = 0.0;
-        if pushes_first {
-            // Three dribble pushes of 1.5 m straight at the goal's middle, each coming to rest.
-            for _ in 0..3 {
-                let start = spot;
-                for i in 0..100 {
-                    let s = (f64::from(i) * 0.02).min(1.0);
-                    spot = [start[0] + 1.5 * (2.0 * s - s * s), start[1]];
-                    judge.observe(&observation(t, spot));
-                    t += 0.02;
-                }
-            }
-        }
-        let start = spot;
+        let (start, mut t) = if pushes_first {
+            pushes(&mut judge, from, 3)
+        } else {
+            (from, 0.0)
+        };
         for i in 0..400 {
             let s = (f64::from(i) * 0.02 - 1.0).clamp(0.0, 5.0);
             let d = 4.0 * s - 0.4 * s * s;
@@ -132,6 +122,22 @@ mod tests {
             t += 0.02;
         }
         judge.finish(20.0, "time ran out")
+    }
+
+    /// `count` dribble pushes of 1.5 m along +x from `from`, each coming to rest within 1 s,
+    /// sampled every 20 ms: where the ball ends and when.
+    fn pushes(judge: &mut Judge, from: [f64; 2], count: usize) -> ([f64; 2], f64) {
+        let (mut spot, mut t) = (from, 0.0);
+        for _ in 0..count {
+            let start = spot;
+            for i in 0..100 {
+                let s = (f64::from(i) * 0.02).min(1.0);
+                spot = [start[0] + 1.5 * (2.0 * s - s * s), start[1]];
+                judge.observe(&observation(t, spot));
+                t += 0.02;
+            }
+        }
+        (spot, t)
     }
 
     fn observation(t: f64, at: [f64; 2]) -> Observation {
@@ -160,20 +166,10 @@ mod tests {
 
     #[test]
     fn dribble_pushes_adding_up_to_the_distance_are_no_shot_but_a_kick_after_them_is() {
-        // 4.5 m of pushes towards the goal, each stopping: no shot of 6 m ...
+        // 6 m of pushes towards the goal, each stopping: no shot of 6 m ...
         let ball = libero_world::WorldParams::builtin().ball;
         let mut judge = Judge::new(&Success::ShotOnTarget { min_m: 6.0 }, &ball, GOAL);
-        let mut spot = [10.0, 0.0];
-        let mut t = 0.0;
-        for _ in 0..4 {
-            let start = spot;
-            for i in 0..100 {
-                let s = (f64::from(i) * 0.02).min(1.0);
-                spot = [start[0] + 1.5 * (2.0 * s - s * s), start[1]];
-                judge.observe(&observation(t, spot));
-                t += 0.02;
-            }
-        }
+        pushes(&mut judge, [10.0, 0.0], 4);
         assert_eq!(judge.verdict(), Verdict::Pending);
         // ... and a long kick after them is one.
         let v = shot([10.0, 0.0], [27.5, 1.0], true);
