@@ -27,6 +27,17 @@ pub struct Observation {
     pub goals_against: u32,
 }
 
+impl Observation {
+    /// One of our torsos within reach of the ball (ground plane).
+    pub fn ours_touch_ball(&self) -> bool {
+        self.ball.is_some_and(|b| {
+            self.ours
+                .iter()
+                .any(|(_, p)| (b[0] - p[0]).hypot(b[1] - p[1]) <= crate::pass_judge::TOUCH_M)
+        })
+    }
+}
+
 /// The state of a condition.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Verdict {
@@ -68,7 +79,6 @@ enum Track {
 /// A run's judge: feed it observations, read the verdict.
 pub struct Judge {
     root: Node,
-    goal: GoalMouth,
     /// Where the ball was at the launch.
     ball_start: Option<[f64; 2]>,
     /// Closest approach of two torsos so far [m], and who.
@@ -80,8 +90,7 @@ impl Judge {
     /// prediction), `goal` the one our team attacks.
     pub fn new(success: &Success, ball: &BallParams, goal: GoalMouth) -> Self {
         Self {
-            root: build(success, ball),
-            goal,
+            root: build(success, ball, goal),
             ball_start: None,
             closest: None,
         }
@@ -98,7 +107,7 @@ impl Judge {
                 self.closest = Some((gap, who.clone()));
             }
         }
-        let (start, goal) = (self.ball_start, self.goal);
+        let start = self.ball_start;
         visit(&mut self.root, &mut |condition, state, track| {
             if state.decided() {
                 return;
@@ -108,7 +117,7 @@ impl Judge {
                     track.observe(o, *receiver, *within_m, state)
                 }
                 (Success::ShotOnTarget { min_m }, Some(Track::Shot(track))) => {
-                    track.observe(o, &goal, *min_m, state)
+                    track.observe(o, *min_m, state)
                 }
                 _ => leaf(condition, state, o, start, pair.as_ref()),
             };
@@ -136,10 +145,11 @@ impl Judge {
     }
 }
 
-fn build(s: &Success, ball: &BallParams) -> Node {
+fn build(s: &Success, ball: &BallParams, goal: GoalMouth) -> Node {
+    let parts = |parts: &[Success]| parts.iter().map(|p| build(p, ball, goal)).collect();
     match s {
-        Success::All(parts) => Node::All(parts.iter().map(|p| build(p, ball)).collect()),
-        Success::Any(parts) => Node::Any(parts.iter().map(|p| build(p, ball)).collect()),
+        Success::All(p) => Node::All(parts(p)),
+        Success::Any(p) => Node::Any(parts(p)),
         leaf => Node::Leaf {
             condition: leaf.clone(),
             state: match leaf {
@@ -148,7 +158,7 @@ fn build(s: &Success, ball: &BallParams) -> Node {
             },
             track: match leaf {
                 Success::PassReceived { .. } => Some(Track::Pass(Box::new(PassTrack::new(ball)))),
-                Success::ShotOnTarget { .. } => Some(Track::Shot(Box::default())),
+                Success::ShotOnTarget { .. } => Some(Track::Shot(Box::new(ShotTrack::new(goal)))),
                 _ => None,
             },
         },

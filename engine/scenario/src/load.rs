@@ -283,41 +283,41 @@ fn place(
     field: &FieldGeometry,
     ball: Option<&BallSpec>,
 ) -> Option<Place> {
-    let kind = head(node).map(|(n, _)| n);
-    if kind != Some("FromBall") && kind != Some("AroundBall") {
-        return on_field(d, node, field, 0.0).map(Place::At);
-    }
-    let (place, (dx_lo, dx_hi), (dy_lo, dy_hi)) = if kind == Some("FromBall") {
-        let mut f = d.fields(node, "FromBall")?;
-        let dx = f.require(d, "dx").and_then(|n| num(d, n, -60.0, 60.0, "m"));
-        let dy = f.require(d, "dy").and_then(|n| num(d, n, -60.0, 60.0, "m"));
-        f.finish(d, &["dx", "dy"]);
-        let (dx, dy) = (dx?, dy?);
-        (
-            Place::FromBall { dx, dy },
-            (dx.lo(), dx.hi()),
-            (dy.lo(), dy.hi()),
-        )
-    } else {
-        let mut f = d.fields(node, "AroundBall")?;
-        let distance = f
-            .require(d, "distance_m")
-            .and_then(|n| num(d, n, 0.0, 60.0, "m"));
-        let bearing = f
-            .require(d, "bearing_deg")
-            .and_then(|n| num(d, n, -360.0, 360.0, "deg"));
-        f.finish(d, &["distance_m", "bearing_deg"]);
-        let (distance_m, bearing_deg) = (distance?, bearing?);
-        // Checked against the square round the farthest draw: a little stricter than the arc.
-        let r = distance_m.hi();
-        (
-            Place::AroundBall {
-                distance_m,
-                bearing_deg,
-            },
-            (-r, r),
-            (-r, r),
-        )
+    let (place, (dx_lo, dx_hi), (dy_lo, dy_hi)) = match head(node).map(|(n, _)| n) {
+        Some("FromBall") => {
+            let mut f = d.fields(node, "FromBall")?;
+            let dx = f.require(d, "dx").and_then(|n| num(d, n, -60.0, 60.0, "m"));
+            let dy = f.require(d, "dy").and_then(|n| num(d, n, -60.0, 60.0, "m"));
+            f.finish(d, &["dx", "dy"]);
+            let (dx, dy) = (dx?, dy?);
+            (
+                Place::FromBall { dx, dy },
+                (dx.lo(), dx.hi()),
+                (dy.lo(), dy.hi()),
+            )
+        }
+        Some("AroundBall") => {
+            let mut f = d.fields(node, "AroundBall")?;
+            let distance = f
+                .require(d, "distance_m")
+                .and_then(|n| num(d, n, 0.0, 60.0, "m"));
+            let bearing = f
+                .require(d, "bearing_deg")
+                .and_then(|n| num(d, n, -360.0, 360.0, "deg"));
+            f.finish(d, &["distance_m", "bearing_deg"]);
+            let (distance_m, bearing_deg) = (distance?, bearing?);
+            // Checked against the square round the farthest draw: a little stricter than the arc.
+            let r = distance_m.hi();
+            (
+                Place::AroundBall {
+                    distance_m,
+                    bearing_deg,
+                },
+                (-r, r),
+                (-r, r),
+            )
+        }
+        _ => return on_field(d, node, field, 0.0).map(Place::At),
     };
     // Without a valid ball there is nothing to check the offset against (its error is reported).
     let ball = ball?;

@@ -9,6 +9,7 @@
 //! never by the agents' decisions.
 
 use crate::judge::{Judge, Observation, Verdict};
+use crate::shot_judge::GoalMouth;
 use crate::spec::{Placement, Play, RunSetup, Scenario};
 use crate::summary::{LaunchMeasure, RobotTravel, RunOutcome};
 use libero_agent::build::{standing_player, tree_player};
@@ -338,7 +339,7 @@ impl Arena {
         let mut judge = Judge::new(
             &scenario.success,
             &self.ball,
-            crate::shot_judge::GoalMouth::of(&scenario.field),
+            GoalMouth::of(&scenario.field),
         );
         let mut measure = LaunchTracker::new(setup.ball, scenario.field.half_extent().0);
         let mut last_progress = (t0, Instant::now());
@@ -382,7 +383,7 @@ impl Arena {
             if s.play_mode == "PlayOn" {
                 last_in_play = s.ball.map(|b| [b[0], b[1]]);
             }
-            if first_touch.is_none() && touches_ball(&o) {
+            if first_touch.is_none() && o.ours_touch_ball() {
                 first_touch = Some(t);
             }
             judge.observe(&o);
@@ -463,16 +464,6 @@ impl Arena {
         }
         self.server.stop();
     }
-}
-
-/// One of our torsos within reach of the ball (ground plane).
-fn touches_ball(o: &Observation) -> bool {
-    use crate::pass_judge::TOUCH_M;
-    o.ball.is_some_and(|b| {
-        o.ours
-            .iter()
-            .any(|(_, p)| (b[0] - p[0]).hypot(b[1] - p[1]) <= TOUCH_M)
-    })
 }
 
 fn describe_end(v: &Verdict) -> String {

@@ -38,8 +38,8 @@ impl GoalMouth {
     }
 }
 
-#[derive(Default)]
 pub struct ShotTrack {
+    goal: GoalMouth,
     /// The last distinct ground-truth sample (time, place).
     last_sample: Option<(f64, [f64; 2])>,
     /// Where the ball was last at rest.
@@ -47,14 +47,17 @@ pub struct ShotTrack {
 }
 
 impl ShotTrack {
+    /// Shots at `goal`.
+    pub fn new(goal: GoalMouth) -> Self {
+        Self {
+            goal,
+            last_sample: None,
+            rest_spot: None,
+        }
+    }
+
     /// One ground-truth sample; the verdict for a shot of at least `min_m` on target.
-    pub fn observe(
-        &mut self,
-        o: &Observation,
-        goal: &GoalMouth,
-        min_m: f64,
-        state: &Verdict,
-    ) -> Verdict {
+    pub fn observe(&mut self, o: &Observation, min_m: f64, state: &Verdict) -> Verdict {
         let Some(b) = o.ball else {
             return state.clone();
         };
@@ -79,8 +82,8 @@ impl ShotTrack {
         if (at[0] - from[0]).hypot(at[1] - from[1]) < min_m {
             return state.clone();
         }
-        match goal.crossing_y(from, at) {
-            Some(y) if y.abs() < goal.half_width => Verdict::Succeeded { t: o.t },
+        match self.goal.crossing_y(from, at) {
+            Some(y) if y.abs() < self.goal.half_width => Verdict::Succeeded { t: o.t },
             _ => state.clone(),
         }
     }

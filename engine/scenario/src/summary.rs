@@ -12,18 +12,20 @@ pub struct LaunchMeasure {
     pub mean_speed_m_s: f64,
 }
 
+/// The median of `times` (sorted here); `None` for none.
+fn median(mut t: Vec<f64>) -> Option<f64> {
+    t.sort_by(f64::total_cmp);
+    match t.len() {
+        0 => None,
+        n if n % 2 == 1 => Some(t[n / 2]),
+        n => Some(0.5 * (t[n / 2 - 1] + t[n / 2])),
+    }
+}
+
 /// The median of `times`, a `None` counting as longer than any time; `None` if that median
 /// is one.
 pub fn median_with_never(times: impl Iterator<Item = Option<f64>>) -> Option<f64> {
-    let mut t: Vec<f64> = times.map(|t| t.unwrap_or(f64::INFINITY)).collect();
-    t.sort_by(f64::total_cmp);
-    let n = t.len();
-    let median = match n {
-        0 => return None,
-        n if n % 2 == 1 => t[n / 2],
-        n => 0.5 * (t[n / 2 - 1] + t[n / 2]),
-    };
-    median.is_finite().then_some(median)
+    median(times.map(|t| t.unwrap_or(f64::INFINITY)).collect()).filter(|m| m.is_finite())
 }
 
 /// A torso higher than this stands (walking height is about 0.6 m, lying below 0.3 m).
@@ -202,12 +204,7 @@ impl Summary {
     }
 
     pub fn median_time_s(&self) -> Option<f64> {
-        let t = self.times();
-        match t.len() {
-            0 => None,
-            n if n % 2 == 1 => Some(t[n / 2]),
-            n => Some(0.5 * (t[n / 2 - 1] + t[n / 2])),
-        }
+        median(self.times())
     }
 
     /// The median over every run, a failure counting as never: `None` when at least half
