@@ -4,12 +4,16 @@
 Usage: libero match --away tools/teams/standing --duration 300 --log /tmp/m/log
        python3 tools/eval_match.py falls /tmp/m/log Libero
        python3 tools/eval_match.py flow /tmp/m/log Libero [every_s]
+       python3 tools/eval_match.py tilt /tmp/m/log Libero
 
 `falls`: each fall in PlayOn (ground-truth torso below 0.35 m), with where, the nearest teammate
 over the 2.5 s before (a collision shows as a few decimetres) and the torso's pitch and roll
 1.5 s before (a forward runaway shows as 10-20 deg of pitch).
 `flow`: every `every_s` (2) seconds the play mode, the ball (as the team's freshest sighting has
 it) and each player's ground-truth place and distance to the ball (F: down).
+`tilt`: the agents' own torso pitch and roll against the ground truth while upright in PlayOn
+(mean, rms, 1st/5th/95th/99th percentiles of estimate − truth) and over the 1.5 s before each
+fall, where a lagging estimate hides a forward runaway from the walk's balance loop.
 """
 import bisect
 import json
@@ -89,11 +93,48 @@ def flow(tracks, every):
         print(f"{t:6.1f} {mode[:10]:10s} ball {ball[0]:6.1f},{ball[1]:5.1f} | " + " ".join(players))
 
 
+def spread(errors):
+    if not errors:
+        return "no cycles"
+    e = sorted(errors)
+    n = len(e)
+    q = lambda f: e[min(n - 1, int(f * n))]
+    rms = math.sqrt(sum(x * x for x in e) / n)
+    return (f"n {n} mean {sum(e) / n:+.2f} rms {rms:.2f} p1 {q(0.01):+.2f} p5 {q(0.05):+.2f} "
+            f"p95 {q(0.95):+.2f} p99 {q(0.99):+.2f} deg")
+
+
+def tilt(tracks):
+    upright = {"pitch": [], "roll": []}
+    before_falls = {"pitch": [], "roll": []}
+    for track in tracks.values():
+        was_down = None
+        for i, r in enumerate(track):
+            truth = r["truth"]
+            if truth.get("pitch_deg") is None:
+                continue
+            down = truth["position"][2] < DOWN_M
+            if r["play_mode"] == "PlayOn" and not down:
+                for axis in upright:
+                    upright[axis].append(r["me"][f"{axis}_deg"] - truth[f"{axis}_deg"])
+            if down and was_down is False and r["play_mode"] == "PlayOn":
+                for q in track[:i]:
+                    if r["time"] - 1.5 <= q["time"] and q["truth"]["position"][2] >= DOWN_M:
+                        for axis in before_falls:
+                            before_falls[axis].append(q["me"][f"{axis}_deg"] - q["truth"][f"{axis}_deg"])
+            was_down = down
+    for axis in upright:
+        print(f"{axis} upright: {spread(upright[axis])}")
+        print(f"{axis} 1.5 s before a fall: {spread(before_falls[axis])}")
+
+
 def main(args):
     what, prefix, team = args[0], args[1], args[2]
     tracks = load(prefix, team)
     if what == "falls":
         falls(tracks)
+    elif what == "tilt":
+        tilt(tracks)
     elif what == "flow":
         flow(tracks, float(args[3]) if len(args) > 3 else 2.0)
     else:

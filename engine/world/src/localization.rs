@@ -16,7 +16,7 @@ use crate::params::LocalizationParams;
 use libero_model::kinematics::{BodyPoses, Kinematics};
 use libero_model::FieldGeometry;
 use libero_protocol::percept::{Seen, Vision, MAX_LANDMARKS};
-use nalgebra::{Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
+use nalgebra::{Isometry3, Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
 use pose_fit::{closed_form_fit, PoseFit};
 
 #[path = "localization_pose_fit.rs"]
@@ -223,11 +223,16 @@ impl Localizer {
         dt: f64,
         upright: bool,
     ) {
-        self.update_tilt(gyro_deg, accel, dt);
         let kinematics_ok = self
             .kinematics
             .forward(joint_angles, &mut self.poses)
             .is_ok();
+        let leg_up = if kinematics_ok && upright {
+            self.stance_leg_up()
+        } else {
+            None
+        };
+        self.update_tilt(gyro_deg, accel, dt, leg_up);
         if self.initialized {
             self.predict(gyro_deg, dt, kinematics_ok && upright);
         }
@@ -241,7 +246,18 @@ impl Localizer {
     /// pulls it back slowly. The accelerometer alone is fooled while walking: the torso's sway
     /// and step accelerations tilt the measured specific force by up to ±20°, which throws every
     /// landmark and ball projected through the camera.
-    fn update_tilt(&mut self, gyro_deg: Option<[f64; 3]>, accel: Option<[f64; 3]>, dt: f64) {
+    ///
+    /// Upright, the stance leg gives "up" far better than the accelerometer (`leg_up`, see
+    /// [`Localizer::stance_leg_up`]): walking at 0.65 m/s its pitch is off the truth by 0.24°
+    /// rms against the accelerometer-pulled filter's 2.2°, which also lagged a forward
+    /// runaway by up to 15° (NOTES.md, session 35); the gyro alone drifts ~0.35°/s nose-up.
+    fn update_tilt(
+        &mut self,
+        gyro_deg: Option<[f64; 3]>,
+        accel: Option<[f64; 3]>,
+        dt: f64,
+        leg_up: Option<Vector3<f64>>,
+    ) {
         if let Some(w) = gyro_deg.map(Vector3::from) {
             let dt = if dt.is_finite() {
                 dt.clamp(0.0, 0.2)
@@ -266,12 +282,24 @@ impl Localizer {
                     && (g - STANDARD_GRAVITY).abs() < p.still_accel_tolerance;
                 let still = steady
                     && gyro_deg.is_some_and(|w| w.iter().all(|c| c.abs() < p.still_gyro_deg_s));
-                let gain = match (self.tilt_known, still) {
-                    (false, _) => 1.0,
-                    (true, true) => p.tilt_accel_correction_still,
-                    (true, false) => p.tilt_accel_correction,
-                };
-                self.up = turned_towards(self.up, a / g, gain);
+                let gate = p.tilt_leg_gate_deg.to_radians();
+                let leg = leg_up.filter(|up| {
+                    self.tilt_known && p.tilt_leg_correction > 0.0 && up.angle(&self.up) <= gate
+                });
+                // The leg when it agrees with the gyro; else the accelerometer, at once when
+                // still (a beam or a monitor move turns the body unseen by the gyro).
+                match (self.tilt_known, leg, still) {
+                    (false, _, _) => self.up = a / g,
+                    (true, Some(leg), _) => {
+                        self.up = turned_towards(self.up, leg, p.tilt_leg_correction)
+                    }
+                    (true, None, true) => {
+                        self.up = turned_towards(self.up, a / g, p.tilt_accel_correction_still)
+                    }
+                    (true, None, false) => {
+                        self.up = turned_towards(self.up, a / g, p.tilt_accel_correction)
+                    }
+                }
                 self.accel_smoothed = if self.tilt_known {
                     self.accel_smoothed + ACCEL_SMOOTHING * (a - self.accel_smoothed)
                 } else {
@@ -326,6 +354,20 @@ impl Localizer {
             sigma_xy * sigma_xy,
             sigma_yaw * sigma_yaw,
         ));
+    }
+
+    /// World "up" in the torso frame as the stance leg has it: the support foot (the lower
+    /// one as the current estimate levels them) taken flat on the ground.
+    fn stance_leg_up(&self) -> Option<Vector3<f64>> {
+        let [l, r] = self.foot_frames?;
+        let (left, right) = (self.poses.frame_in_torso(l)?, self.poses.frame_in_torso(r)?);
+        let height = |foot: &Isometry3<f64>| (self.tilt * foot.translation.vector).z;
+        let support = if height(left) <= height(right) {
+            left
+        } else {
+            right
+        };
+        Some(support.rotation * Vector3::z())
     }
 
     /// Both feet relative to the torso, rotated into the field's axes (yaw included).

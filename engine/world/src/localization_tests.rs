@@ -87,7 +87,7 @@ fn run_tilt(
     for k in 0..(seconds / 0.02) as usize {
         let t = 0.02 * k as f64;
         let (gyro, accel) = imu(t);
-        loc.update_tilt(Some(gyro), Some(accel), 0.02);
+        loc.update_tilt(Some(gyro), Some(accel), 0.02, None);
         check(t, loc);
     }
 }
@@ -226,4 +226,75 @@ fn once_localized_two_landmarks_relocalize_only_when_two_frames_agree_three_at_o
         ..fit
     };
     assert!(!loc.should_relocalize(&fit, 2, Some(&elsewhere)));
+}
+
+#[test]
+fn upright_the_stance_leg_holds_the_tilt_against_a_drifting_gyro_and_a_shaken_accelerometer() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let leg_on = || {
+        let mut loc = tilt_localizer();
+        loc.params.tilt_leg_correction = 0.1;
+        loc.params.tilt_leg_gate_deg = 5.0;
+        loc
+    };
+    let mut loc = leg_on();
+    // The walk's stance: knees bent with the ankles making up for the hips, so that the soles
+    // are flat while the torso leans 5° forward of them (hip −17°, knee 24°, ankle −12°).
+    let mut angles = vec![0.0; model.joints.len()];
+    for side in ["left", "right"] {
+        for (joint, deg) in [("hip_pitch", -17.0), ("knee", 24.0), ("ankle_pitch", -12.0)] {
+            angles[model.joint_id(&format!("{side}_{joint}")).unwrap()] = deg;
+        }
+    }
+    let lean = {
+        let poses = {
+            let mut p = loc.kinematics.new_poses();
+            loc.kinematics.forward(&angles, &mut p).unwrap();
+            p
+        };
+        let foot = poses.frame_in_torso(loc.foot_frames.unwrap()[0]).unwrap();
+        let (_, pitch, _) = foot.rotation.inverse().euler_angles();
+        pitch.to_degrees()
+    };
+    assert!((lean - 5.0).abs() < 0.5, "the stance leans {lean:.2}°");
+    let field = FieldGeometry::builtin("fifa7vs7").unwrap();
+    let shake = |t: f64| 3.0 * (std::f64::consts::TAU * t / 0.35).sin();
+    let run = |loc: &mut Localizer, upright: bool| {
+        for k in 0..250 {
+            let t = 0.02 * k as f64;
+            let pitch = lean.to_radians();
+            // A gyro that reads 0.5°/s nose-up the whole time (the walk's drift, a little
+            // more), an accelerometer shaken ±3 m/s² along x.
+            let accel = [-9.81 * pitch.sin() + shake(t), 0.0, 9.81 * pitch.cos()];
+            loc.update(
+                &field,
+                &angles,
+                Some([0.0, -0.5, 0.0]),
+                Some(accel),
+                None,
+                t,
+                0.02,
+                upright,
+            );
+        }
+        roll_pitch_deg(loc).1
+    };
+    let upright = run(&mut loc, true);
+    assert!(
+        (upright - lean).abs() < 0.3,
+        "upright: {upright:.2}° for {lean:.2}°"
+    );
+    // Without the leg (lying, or the leg switched off) the accelerometer's pull leaves the
+    // drift and the shake in it.
+    let mut without = leg_on();
+    without.params.tilt_leg_correction = 0.0;
+    let shaken = run(&mut without, true);
+    let mut lying = leg_on();
+    let not_upright = run(&mut lying, false);
+    for (what, pitch) in [("without the leg", shaken), ("not upright", not_upright)] {
+        assert!(
+            (pitch - lean).abs() > 0.5,
+            "{what}: {pitch:.2}° for {lean:.2}°"
+        );
+    }
 }

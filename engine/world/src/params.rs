@@ -27,6 +27,15 @@ pub struct LocalizationParams {
     pub relocalize_min_landmarks: usize,
     pub lost_after_rejected_frames: u32,
     pub tilt_accel_correction: f64,
+    /// Upright, the stance leg's kinematics give "up" too (the support sole flat on the
+    /// ground): the pull towards it per cycle, used instead of the accelerometer's while
+    /// moving (0: off; absent from a file: 0) ...
+    #[serde(default)]
+    pub tilt_leg_correction: f64,
+    /// ... when it lies within this of the gyro-carried "up" [deg] (a sole rolling over its
+    /// toe or heel is not flat).
+    #[serde(default)]
+    pub tilt_leg_gate_deg: f64,
     pub tilt_accel_correction_still: f64,
     pub still_gyro_deg_s: f64,
     pub still_accel_tolerance: f64,
@@ -193,6 +202,18 @@ impl WorldParams {
         fraction("tilt_accel_correction", l.tilt_accel_correction);
         fraction("tilt_accel_correction_still", l.tilt_accel_correction_still);
         fraction("rolling_speed_ratio", b.rolling_speed_ratio);
+        if !(l.tilt_leg_correction.is_finite() && (0.0..=1.0).contains(&l.tilt_leg_correction)) {
+            problems.push(format!(
+                "`tilt_leg_correction` must be in [0, 1], not {}",
+                l.tilt_leg_correction
+            ));
+        }
+        if !(l.tilt_leg_gate_deg.is_finite() && (0.0..=90.0).contains(&l.tilt_leg_gate_deg)) {
+            problems.push(format!(
+                "`tilt_leg_gate_deg` must be in [0, 90], not {}",
+                l.tilt_leg_gate_deg
+            ));
+        }
         if l.relocalize_min_landmarks < 2 {
             problems.push(format!(
                 "`relocalize_min_landmarks` must be at least 2 (a fit needs two landmarks), not {}",

@@ -14,6 +14,12 @@ fn localizes_from_synthetic_vision_with_head_panning() {
     let mut world = World::new(&model, "Libero", 2);
     scene.set("head_pitch", 20.0);
     let torso = Scene::torso(-7.3, 4.1, 0.66, 123.0, 1.0, -2.0);
+    // The soles flat on the ground under the tilted torso, as a standing robot's are (the
+    // world model reads the tilt from the stance leg too).
+    for side in ["left", "right"] {
+        scene.set(&format!("{side}_ankle_pitch"), 2.0);
+        scene.set(&format!("{side}_ankle_roll"), -1.0);
+    }
     let mut worst: f64 = 0.0;
     for cycle in 0..200 {
         let pan = 60.0 * (cycle as f64 * 0.05).sin();
