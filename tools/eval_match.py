@@ -108,6 +108,7 @@ def tilt(tracks):
     upright = {"pitch": [], "roll": []}
     before_falls = {"pitch": [], "roll": []}
     for track in tracks.values():
+        times = [r["time"] for r in track]
         was_down = None
         for i, r in enumerate(track):
             truth = r["truth"]
@@ -118,8 +119,8 @@ def tilt(tracks):
                 for axis in upright:
                     upright[axis].append(r["me"][f"{axis}_deg"] - truth[f"{axis}_deg"])
             if down and was_down is False and r["play_mode"] == "PlayOn":
-                for q in track[:i]:
-                    if r["time"] - 1.5 <= q["time"] and q["truth"]["position"][2] >= DOWN_M:
+                for q in track[bisect.bisect_left(times, r["time"] - 1.5):i]:
+                    if q["truth"]["position"][2] >= DOWN_M:
                         for axis in before_falls:
                             before_falls[axis].append(q["me"][f"{axis}_deg"] - q["truth"][f"{axis}_deg"])
             was_down = down

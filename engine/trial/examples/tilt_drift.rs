@@ -32,7 +32,7 @@ fn main() {
         Some(path) => SkillParams::load(std::path::Path::new(path), trial.model()).unwrap(),
         None => SkillParams::builtin(trial.model()).unwrap(),
     };
-    let state: Arc<Mutex<Integrations>> = Arc::new(Mutex::new(None));
+    let mut state: Integrations = None;
     let kin = libero_model::kinematics::Kinematics::new(trial.model());
     let soles = [
         kin.frame_id("left_sole").unwrap(),
@@ -77,9 +77,8 @@ fn main() {
                 }
             }
         }
-        let mut state = state.lock().unwrap();
         match (truth, state.as_mut()) {
-            (Some(q), None) if t > 1.0 => *state = Some(([q; 3], gyro, world.time)),
+            (Some(q), None) if t > 1.0 => state = Some(([q; 3], gyro, world.time)),
             (Some(q), Some((estimates, previous, time))) => {
                 let dt = world.time - *time;
                 let rates = [gyro, (gyro + *previous) * 0.5, *previous];

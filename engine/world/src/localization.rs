@@ -227,11 +227,10 @@ impl Localizer {
             .kinematics
             .forward(joint_angles, &mut self.poses)
             .is_ok();
-        let leg_up = if kinematics_ok && upright {
-            self.stance_leg_up()
-        } else {
-            None
-        };
+        // Off (the shipped setting), nothing of the leg is worked out per cycle.
+        let leg_up = (kinematics_ok && upright && self.params.tilt_leg_correction > 0.0)
+            .then(|| self.stance_leg_up())
+            .flatten();
         self.update_tilt(gyro_deg, accel, dt, leg_up);
         if self.initialized {
             self.predict(gyro_deg, dt, kinematics_ok && upright);
@@ -283,23 +282,16 @@ impl Localizer {
                 let still = steady
                     && gyro_deg.is_some_and(|w| w.iter().all(|c| c.abs() < p.still_gyro_deg_s));
                 let gate = p.tilt_leg_gate_deg.to_radians();
-                let leg = leg_up.filter(|up| {
-                    self.tilt_known && p.tilt_leg_correction > 0.0 && up.angle(&self.up) <= gate
-                });
+                let leg = leg_up.filter(|up| up.angle(&self.up) <= gate);
                 // The leg when it agrees with the gyro; else the accelerometer, at once when
                 // still (a beam or a monitor move turns the body unseen by the gyro).
-                match (self.tilt_known, leg, still) {
-                    (false, _, _) => self.up = a / g,
-                    (true, Some(leg), _) => {
-                        self.up = turned_towards(self.up, leg, p.tilt_leg_correction)
-                    }
-                    (true, None, true) => {
-                        self.up = turned_towards(self.up, a / g, p.tilt_accel_correction_still)
-                    }
-                    (true, None, false) => {
-                        self.up = turned_towards(self.up, a / g, p.tilt_accel_correction)
-                    }
-                }
+                let (towards, gain) = match (self.tilt_known, leg, still) {
+                    (false, _, _) => (a / g, 1.0),
+                    (true, Some(leg), _) => (leg, p.tilt_leg_correction),
+                    (true, None, true) => (a / g, p.tilt_accel_correction_still),
+                    (true, None, false) => (a / g, p.tilt_accel_correction),
+                };
+                self.up = turned_towards(self.up, towards, gain);
                 self.accel_smoothed = if self.tilt_known {
                     self.accel_smoothed + ACCEL_SMOOTHING * (a - self.accel_smoothed)
                 } else {

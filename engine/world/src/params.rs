@@ -202,18 +202,13 @@ impl WorldParams {
         fraction("tilt_accel_correction", l.tilt_accel_correction);
         fraction("tilt_accel_correction_still", l.tilt_accel_correction_still);
         fraction("rolling_speed_ratio", b.rolling_speed_ratio);
-        if !(l.tilt_leg_correction.is_finite() && (0.0..=1.0).contains(&l.tilt_leg_correction)) {
-            problems.push(format!(
-                "`tilt_leg_correction` must be in [0, 1], not {}",
-                l.tilt_leg_correction
-            ));
-        }
-        if !(l.tilt_leg_gate_deg.is_finite() && (0.0..=90.0).contains(&l.tilt_leg_gate_deg)) {
-            problems.push(format!(
-                "`tilt_leg_gate_deg` must be in [0, 90], not {}",
-                l.tilt_leg_gate_deg
-            ));
-        }
+        let mut within = |name: &str, v: f64, lo: f64, hi: f64| {
+            if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                problems.push(format!("`{name}` must be in [{lo}, {hi}], not {v}"));
+            }
+        };
+        within("tilt_leg_correction", l.tilt_leg_correction, 0.0, 1.0);
+        within("tilt_leg_gate_deg", l.tilt_leg_gate_deg, 0.0, 90.0);
         if l.relocalize_min_landmarks < 2 {
             problems.push(format!(
                 "`relocalize_min_landmarks` must be at least 2 (a fit needs two landmarks), not {}",
