@@ -16,11 +16,13 @@ use crate::params::LocalizationParams;
 use libero_model::kinematics::{BodyPoses, Kinematics};
 use libero_model::FieldGeometry;
 use libero_protocol::percept::{Seen, Vision, MAX_LANDMARKS};
-use nalgebra::{Isometry3, Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix2x3, Matrix3, Point3, UnitQuaternion, Vector2, Vector3};
 use pose_fit::{closed_form_fit, PoseFit};
 
 #[path = "localization_pose_fit.rs"]
 mod pose_fit;
+#[path = "localization_tilt.rs"]
+mod tilt;
 
 /// The agent's belief about its own torso pose.
 /// Magnitude of gravity [m/s²] (MuJoCo and SimSpark both use it).
@@ -227,9 +229,11 @@ impl Localizer {
             .kinematics
             .forward(joint_angles, &mut self.poses)
             .is_ok();
-        // Off (the shipped setting), nothing of the leg is worked out per cycle.
-        let leg_up = (kinematics_ok && upright && self.params.tilt_leg_correction > 0.0)
-            .then(|| self.stance_leg_up())
+        // Both leg gains off, nothing of the legs is worked out per cycle.
+        let legs_used =
+            self.params.tilt_leg_correction > 0.0 || self.params.tilt_stand_correction > 0.0;
+        let leg_up = (kinematics_ok && upright && legs_used)
+            .then(|| self.leg_up())
             .flatten();
         self.update_tilt(gyro_deg, accel, dt, leg_up);
         if self.initialized {
@@ -239,77 +243,6 @@ impl Localizer {
             self.correct(field, vision, time);
         }
         self.publish();
-    }
-
-    /// A complementary filter: the gyro carries "up" from cycle to cycle, the accelerometer
-    /// pulls it back slowly. The accelerometer alone is fooled while walking: the torso's sway
-    /// and step accelerations tilt the measured specific force by up to ±20°, which throws every
-    /// landmark and ball projected through the camera.
-    ///
-    /// Upright, the stance leg gives "up" far better than the accelerometer (`leg_up`, see
-    /// [`Localizer::stance_leg_up`]): walking at 0.65 m/s its pitch is off the truth by 0.24°
-    /// rms against the accelerometer-pulled filter's 2.2°, which also lagged a forward
-    /// runaway by up to 15° (NOTES.md, session 35); the gyro alone drifts ~0.35°/s nose-up.
-    fn update_tilt(
-        &mut self,
-        gyro_deg: Option<[f64; 3]>,
-        accel: Option<[f64; 3]>,
-        dt: f64,
-        leg_up: Option<Vector3<f64>>,
-    ) {
-        if let Some(w) = gyro_deg.map(Vector3::from) {
-            let dt = if dt.is_finite() {
-                dt.clamp(0.0, 0.2)
-            } else {
-                0.0
-            };
-            if w.iter().all(|c| c.is_finite()) {
-                // A world-fixed vector seen from a frame turning at ω turns at −ω.
-                let turn = w.map(f64::to_radians) * -dt;
-                self.up = UnitQuaternion::from_scaled_axis(turn) * self.up;
-            }
-        }
-        let p = &self.params;
-        if let Some(a) = accel.map(Vector3::from) {
-            let g = a.norm();
-            // Free fall or a hard impact says nothing about "up".
-            if a.iter().all(|c| c.is_finite()) && (3.0..=20.0).contains(&g) {
-                // Standing still, the accelerometer is the truth and is trusted at once (a beam or
-                // a monitor move turns the body without the gyro seeing it).
-                // (The magnitude alone cannot tell: a sideways sway changes it only second-order.)
-                let steady = (a - self.accel_smoothed).norm() < p.still_accel_tolerance
-                    && (g - STANDARD_GRAVITY).abs() < p.still_accel_tolerance;
-                let still = steady
-                    && gyro_deg.is_some_and(|w| w.iter().all(|c| c.abs() < p.still_gyro_deg_s));
-                let gate = p.tilt_leg_gate_deg.to_radians();
-                let leg = leg_up.filter(|up| up.angle(&self.up) <= gate);
-                // The leg when it agrees with the gyro; else the accelerometer, at once when
-                // still (a beam or a monitor move turns the body unseen by the gyro).
-                let (towards, gain) = match (self.tilt_known, leg, still) {
-                    (false, _, _) => (a / g, 1.0),
-                    (true, Some(leg), _) => (leg, p.tilt_leg_correction),
-                    (true, None, true) => (a / g, p.tilt_accel_correction_still),
-                    (true, None, false) => (a / g, p.tilt_accel_correction),
-                };
-                self.up = turned_towards(self.up, towards, gain);
-                self.accel_smoothed = if self.tilt_known {
-                    self.accel_smoothed + ACCEL_SMOOTHING * (a - self.accel_smoothed)
-                } else {
-                    a
-                };
-                self.tilt_known = true;
-            }
-        }
-        match self.up.try_normalize(1e-9) {
-            Some(up) => self.up = up,
-            None => self.up = Vector3::z(),
-        }
-        if let Some(t) = UnitQuaternion::rotation_between(&self.up, &Vector3::z()) {
-            self.tilt = t;
-        } else if self.up.z < 0.0 {
-            // Exactly upside down: any half turn about a horizontal axis levels it.
-            self.tilt = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI);
-        }
     }
 
     fn predict(&mut self, gyro_deg: Option<[f64; 3]>, dt: f64, odometry: bool) {
@@ -346,20 +279,6 @@ impl Localizer {
             sigma_xy * sigma_xy,
             sigma_yaw * sigma_yaw,
         ));
-    }
-
-    /// World "up" in the torso frame as the stance leg has it: the support foot (the lower
-    /// one as the current estimate levels them) taken flat on the ground.
-    fn stance_leg_up(&self) -> Option<Vector3<f64>> {
-        let [l, r] = self.foot_frames?;
-        let (left, right) = (self.poses.frame_in_torso(l)?, self.poses.frame_in_torso(r)?);
-        let height = |foot: &Isometry3<f64>| (self.tilt * foot.translation.vector).z;
-        let support = if height(left) <= height(right) {
-            left
-        } else {
-            right
-        };
-        Some(support.rotation * Vector3::z())
     }
 
     /// Both feet relative to the torso, rotated into the field's axes (yaw included).
@@ -565,27 +484,6 @@ impl Localizer {
         e.position_sigma = position_var.max(0.0).sqrt();
         e.yaw_sigma_deg = self.covariance[(2, 2)].max(0.0).sqrt().to_degrees();
     }
-}
-
-/// `from` turned towards `to` (both unit vectors) by `fraction` of the angle between them. A
-/// linear blend `from + k·(to − from)` would do the same for small angles, but barely turns a
-/// vector that points the other way: the estimate then stayed on the back for the whole of a
-/// get-up from lying face down (a monitor placement had turned the body unseen by the gyro).
-fn turned_towards(from: Vector3<f64>, to: Vector3<f64>, fraction: f64) -> Vector3<f64> {
-    let angle = from.angle(&to);
-    if angle < 1e-12 {
-        return to;
-    }
-    // Opposite vectors: any axis at right angles to `from` will do.
-    let axis = from.cross(&to).try_normalize(1e-9).unwrap_or_else(|| {
-        let other = if from.x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        from.cross(&other).normalize()
-    });
-    UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_unchecked(axis), fraction * angle) * from
 }
 
 #[cfg(test)]

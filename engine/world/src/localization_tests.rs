@@ -228,73 +228,105 @@ fn once_localized_two_landmarks_relocalize_only_when_two_frames_agree_three_at_o
     assert!(!loc.should_relocalize(&fit, 2, Some(&elsewhere)));
 }
 
-#[test]
-fn upright_the_stance_leg_holds_the_tilt_against_a_drifting_gyro_and_a_shaken_accelerometer() {
+/// Joint angles of a stance whose soles are flat while the torso leans 5° forward of them (the
+/// walk's: knees bent, the ankles making up for the hips): hip −17°, knee 24°, ankle −12°;
+/// the left leg's hip and ankle `left_forward_deg` further forward and back (the left foot a
+/// step ahead, still flat).
+fn leaning_stance(loc: &Localizer, left_forward_deg: f64) -> (Vec<f64>, f64) {
     let model = RobotModel::builtin("T1").unwrap();
-    let leg_on = || {
-        let mut loc = tilt_localizer();
-        loc.params.tilt_leg_correction = 0.1;
-        loc.params.tilt_leg_gate_deg = 5.0;
-        loc
-    };
-    let mut loc = leg_on();
-    // The walk's stance: knees bent with the ankles making up for the hips, so that the soles
-    // are flat while the torso leans 5° forward of them (hip −17°, knee 24°, ankle −12°).
     let mut angles = vec![0.0; model.joints.len()];
     for side in ["left", "right"] {
-        for (joint, deg) in [("hip_pitch", -17.0), ("knee", 24.0), ("ankle_pitch", -12.0)] {
+        let shift = if side == "left" {
+            left_forward_deg
+        } else {
+            0.0
+        };
+        for (joint, deg) in [
+            ("hip_pitch", -17.0 - shift),
+            ("knee", 24.0),
+            ("ankle_pitch", -12.0 + shift),
+        ] {
             angles[model.joint_id(&format!("{side}_{joint}")).unwrap()] = deg;
         }
     }
-    let lean = {
-        let poses = {
-            let mut p = loc.kinematics.new_poses();
-            loc.kinematics.forward(&angles, &mut p).unwrap();
-            p
-        };
-        let foot = poses.frame_in_torso(loc.foot_frames.unwrap()[0]).unwrap();
-        let (_, pitch, _) = foot.rotation.inverse().euler_angles();
-        pitch.to_degrees()
-    };
-    assert!((lean - 5.0).abs() < 0.5, "the stance leans {lean:.2}°");
+    let mut poses = loc.kinematics.new_poses();
+    loc.kinematics.forward(&angles, &mut poses).unwrap();
+    let foot = poses.frame_in_torso(loc.foot_frames.unwrap()[1]).unwrap();
+    let (_, pitch, _) = foot.rotation.inverse().euler_angles();
+    (angles, pitch.to_degrees())
+}
+
+/// 5 s of a gyro that reads 0.5°/s nose-up the whole time (the walk's drift, a little more)
+/// and an accelerometer shaken ±3 m/s² along x, the body still at `lean_deg`: the pitch the
+/// localizer ends with.
+fn pitch_after_drift(loc: &mut Localizer, angles: &[f64], lean_deg: f64, upright: bool) -> f64 {
     let field = FieldGeometry::builtin("fifa7vs7").unwrap();
     let shake = |t: f64| 3.0 * (std::f64::consts::TAU * t / 0.35).sin();
-    let run = |loc: &mut Localizer, upright: bool| {
-        for k in 0..250 {
-            let t = 0.02 * k as f64;
-            let pitch = lean.to_radians();
-            // A gyro that reads 0.5°/s nose-up the whole time (the walk's drift, a little
-            // more), an accelerometer shaken ±3 m/s² along x.
-            let accel = [-9.81 * pitch.sin() + shake(t), 0.0, 9.81 * pitch.cos()];
-            loc.update(
-                &field,
-                &angles,
-                Some([0.0, -0.5, 0.0]),
-                Some(accel),
-                None,
-                t,
-                0.02,
-                upright,
-            );
-        }
-        roll_pitch_deg(loc).1
-    };
-    let upright = run(&mut loc, true);
+    let pitch = lean_deg.to_radians();
+    for k in 0..250 {
+        let t = 0.02 * k as f64;
+        let accel = [-9.81 * pitch.sin() + shake(t), 0.0, 9.81 * pitch.cos()];
+        loc.update(
+            &field,
+            angles,
+            Some([0.0, -0.5, 0.0]),
+            Some(accel),
+            None,
+            t,
+            0.02,
+            upright,
+        );
+    }
+    roll_pitch_deg(loc).1
+}
+
+fn with_leg_gains(leg: f64, stand: f64) -> Localizer {
+    let mut loc = tilt_localizer();
+    loc.params.tilt_leg_correction = leg;
+    loc.params.tilt_stand_correction = stand;
+    loc.params.tilt_leg_gate_deg = 5.0;
+    loc
+}
+
+#[test]
+fn upright_the_stance_leg_holds_the_tilt_against_a_drifting_gyro_and_a_shaken_accelerometer() {
+    let mut loc = with_leg_gains(0.1, 0.0);
+    // One foot a step ahead: stepping, not standing.
+    let (angles, lean) = leaning_stance(&loc, 10.0);
+    assert!((lean - 5.0).abs() < 0.5, "the stance leans {lean:.2}°");
+    let upright = pitch_after_drift(&mut loc, &angles, lean, true);
     assert!(
         (upright - lean).abs() < 0.3,
         "upright: {upright:.2}° for {lean:.2}°"
     );
     // Without the leg (lying, or the leg switched off) the accelerometer's pull leaves the
     // drift and the shake in it.
-    let mut without = leg_on();
-    without.params.tilt_leg_correction = 0.0;
-    let shaken = run(&mut without, true);
-    let mut lying = leg_on();
-    let not_upright = run(&mut lying, false);
+    let shaken = pitch_after_drift(&mut with_leg_gains(0.0, 0.0), &angles, lean, true);
+    let not_upright = pitch_after_drift(&mut with_leg_gains(0.1, 0.0), &angles, lean, false);
     for (what, pitch) in [("without the leg", shaken), ("not upright", not_upright)] {
         assert!(
             (pitch - lean).abs() > 0.5,
             "{what}: {pitch:.2}° for {lean:.2}°"
         );
     }
+}
+
+#[test]
+fn standing_on_both_feet_the_legs_hold_the_tilt_and_a_step_apart_they_are_left_to_their_own_gain() {
+    // Only the standing gain on: feet side by side take it ...
+    let mut loc = with_leg_gains(0.0, 0.1);
+    let (together, lean) = leaning_stance(&loc, 0.0);
+    let standing = pitch_after_drift(&mut loc, &together, lean, true);
+    assert!(
+        (standing - lean).abs() < 0.3,
+        "standing: {standing:.2}° for {lean:.2}°"
+    );
+    // ... a foot a step ahead does not (walking stays on the accelerometer's pull while the
+    // walking gain is off).
+    let (apart, lean) = leaning_stance(&loc, 10.0);
+    let stepping = pitch_after_drift(&mut with_leg_gains(0.0, 0.1), &apart, lean, true);
+    assert!(
+        (stepping - lean).abs() > 0.5,
+        "stepping: {stepping:.2}° for {lean:.2}°"
+    );
 }

@@ -36,6 +36,10 @@ pub struct LocalizationParams {
     /// toe or heel is not flat).
     #[serde(default)]
     pub tilt_leg_gate_deg: f64,
+    /// ... and the pull towards the legs' "up" while both feet stand flat side by side (0:
+    /// off; absent from a file: 0).
+    #[serde(default)]
+    pub tilt_stand_correction: f64,
     pub tilt_accel_correction_still: f64,
     pub still_gyro_deg_s: f64,
     pub still_accel_tolerance: f64,
@@ -209,6 +213,7 @@ impl WorldParams {
         };
         within("tilt_leg_correction", l.tilt_leg_correction, 0.0, 1.0);
         within("tilt_leg_gate_deg", l.tilt_leg_gate_deg, 0.0, 90.0);
+        within("tilt_stand_correction", l.tilt_stand_correction, 0.0, 1.0);
         if l.relocalize_min_landmarks < 2 {
             problems.push(format!(
                 "`relocalize_min_landmarks` must be at least 2 (a fit needs two landmarks), not {}",

@@ -12,6 +12,9 @@ pub struct KickGeometry {
     pub ball_ahead_m: f64,
     /// ... and this far beside it, towards the kicking foot [m].
     pub ball_beside_m: f64,
+    /// A beam to the kicking place lands this much nearer the ball (the stand pose's torso
+    /// sits further forward than the walk posture's the kick starts from) [m].
+    pub beam_nearer_m: f64,
     pub long_kick_from_m: f64,
     pub short_roll_out_m: f64,
     pub long_roll_out_m: f64,
@@ -25,6 +28,7 @@ impl Default for KickGeometry {
         Self {
             ball_ahead_m: 0.36,
             ball_beside_m: 0.1,
+            beam_nearer_m: 0.0,
             long_kick_from_m: 3.0,
             short_roll_out_m: 0.0,
             long_roll_out_m: 0.0,
@@ -39,6 +43,7 @@ impl KickGeometry {
         Self {
             ball_ahead_m: k.approach.ball_ahead_m,
             ball_beside_m: k.approach.ball_beside_m,
+            beam_nearer_m: k.approach.beam_nearer_m,
             long_kick_from_m: k.long_kick_from_m,
             short_roll_out_m: k.short.roll_out_m,
             long_roll_out_m: k.long.roll_out_m,

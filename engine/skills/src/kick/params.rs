@@ -105,6 +105,12 @@ pub struct KickApproach {
     pub ball_ahead_m: f64,
     /// ... and this far to the side of the kicking foot [m].
     pub ball_beside_m: f64,
+    /// A beamed robot lands in the stand pose, its torso this much further forward over its
+    /// feet than in the walk's posture that the kick starts from [m]: a set-play taker is
+    /// beamed this much nearer the ball, so that the posture change leaves it at the kicking
+    /// place instead of a step behind it. Absent: 0.
+    #[serde(default)]
+    pub beam_nearer_m: f64,
     /// Paths to the kicking place keep the torso at least this far from the ball centre [m];
     /// otherwise the robot walks around the ball on a circle of this radius.
     pub clearance_m: f64,
@@ -313,6 +319,12 @@ impl KickParams {
         let p = |name: &str| format!("{k}.approach.{name}");
         in_range(&p("ball_ahead_m"), a.ball_ahead_m, 0.05, 1.0)?;
         in_range(&p("ball_beside_m"), a.ball_beside_m, 0.0, 0.3)?;
+        in_range(
+            &p("beam_nearer_m"),
+            a.beam_nearer_m,
+            0.0,
+            0.5 * a.ball_ahead_m,
+        )?;
         in_range(&p("clearance_m"), a.clearance_m, 0.1, 2.0)?;
         in_range(&p("circle_radius_m"), a.circle_radius_m, a.clearance_m, 3.0)?;
         in_range(

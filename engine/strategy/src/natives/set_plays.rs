@@ -97,7 +97,7 @@ fn beam_to_kick_place(host: &mut AgentHost, ports: &Ports) -> Status {
     host.intent.beam = Some(kicking_place(
         spot,
         launched,
-        geometry.ball_ahead_m,
+        geometry.ball_ahead_m - geometry.beam_nearer_m,
         geometry.ball_beside_m,
     ));
     if host.world.game.side.is_some() {
