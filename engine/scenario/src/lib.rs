@@ -27,6 +27,7 @@
 
 mod conditions;
 pub mod decode;
+pub mod eval_logs;
 pub mod judge;
 pub mod load;
 mod pass_judge;
@@ -38,6 +39,7 @@ pub mod summary;
 #[cfg(test)]
 mod load_tests;
 
+pub use eval_logs::Logs;
 pub use libero_behavior::Report;
 pub use load::{is_scenario_text, load_file, load_text, validate_files};
 pub use run::{Arena, RunData, RunError, Watcher, OUR_TEAM, THEIR_TEAM};
@@ -80,7 +82,7 @@ pub fn run_series(
         runs: Vec::new(),
         wall_s: 0.0,
     };
-    let mut arena = match Arena::start(scenario, data) {
+    let mut arena = match Arena::start(scenario, data, Logs::Fresh) {
         Ok(a) => a,
         Err(e) => return (summary, Some(e)),
     };
@@ -106,7 +108,7 @@ pub fn run_series(
                         index + 1
                     );
                     arena.stop();
-                    arena = match Arena::start(scenario, data) {
+                    arena = match Arena::start(scenario, data, Logs::Continue) {
                         Ok(a) => a,
                         Err(e) => {
                             summary.wall_s = started.elapsed().as_secs_f64();

@@ -8,6 +8,7 @@
 //! (torsos from each agent's percepts, ball from the monitor's scene graph) is only read here,
 //! never by the agents' decisions.
 
+use crate::eval_logs::Logs;
 use crate::judge::{Judge, Observation, Verdict};
 use crate::shot_judge::GoalMouth;
 use crate::spec::{Placement, Play, RunSetup, Scenario};
@@ -96,7 +97,7 @@ pub struct Arena {
 impl Arena {
     /// Start a fast-mode server and connect the scenario's robots (ours first, so ours play
     /// from the left).
-    pub fn start(scenario: &Scenario, data: &RunData) -> Result<Self, RunError> {
+    pub fn start(scenario: &Scenario, data: &RunData, logs: Logs) -> Result<Self, RunError> {
         let mut server = ServerProcess::start(ServerOptions::default())?;
         if let Some(watcher) = &data.watcher {
             watcher.monitor(server.monitor());
@@ -125,17 +126,7 @@ impl Arena {
                     watcher.player(team, &mut player);
                 }
                 if let Some(path) = &data.log {
-                    let mut name = path.as_os_str().to_owned();
-                    name.push(format!(".{team}.{}", r.unum));
-                    let logger =
-                        libero_world::eval_log::EvalLogger::create(std::path::Path::new(&name))
-                            .map_err(|e| {
-                                RunError::Setup(format!(
-                                    "cannot create the evaluation log {}: {e}",
-                                    std::path::Path::new(&name).display()
-                                ))
-                            })?;
-                    player.log_to(logger, true);
+                    player.log_to(logs.open(path, team, r.unum)?, true);
                 }
                 robots.push(Robot {
                     unum: r.unum,

@@ -58,6 +58,16 @@ impl EvalLogger<BufWriter<File>> {
     pub fn create(path: &Path) -> std::io::Result<Self> {
         Ok(Self::new(BufWriter::new(File::create(path)?)))
     }
+
+    /// Open the log file to write on at its end (created if missing): a second connection
+    /// of the same robot in one run (a scenario's server restarted) adds to its log.
+    pub fn append(path: &Path) -> std::io::Result<Self> {
+        let file = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(path)?;
+        Ok(Self::new(BufWriter::new(file)))
+    }
 }
 
 impl<W: Write> EvalLogger<W> {
