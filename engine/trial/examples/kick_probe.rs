@@ -2,7 +2,7 @@
 //! `cargo run --release -p libero-trial --example kick_probe -- <count> <distance_m> [params.ron]`
 //! `CI_SIDES=1`: the live test's three approaches, repeated. `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`;
 //! `PLACE=1`: seeded setups at the kicking place within the approach's tolerances;
-//! `ONLY=i,j`: only those setups. `ROBOT=nao_typeN`: a NAO on SimSpark.
+//! `BACK=d`: the robot d metres behind the kicking place; `ONLY=i,j`: only those setups. `ROBOT=nao_typeN`: a NAO on SimSpark.
 use libero_skills::SkillParams;
 use libero_trial::kick_bench::{kick_once, setups, setups_at_place, KickSetup, KickSummary};
 use libero_trial::Trial;
@@ -60,12 +60,17 @@ fn main() {
             .and_then(|s| s.parse().ok())
             .unwrap_or(0.0);
         let (c, s) = (heading.to_radians().cos(), heading.to_radians().sin());
+        // `BACK=d`: the robot starts d metres behind its kicking place (an approach's last part).
+        let back: f64 = std::env::var("BACK")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0.0);
         (0..count)
             .map(|i| {
                 let y = -2.0 + i as f64;
                 let (ax, ay) = (ap.ball_ahead_m, side * ap.ball_beside_m);
                 KickSetup {
-                    robot: [-5.0, y, heading],
+                    robot: [-5.0 - back * c, y - back * s, heading],
                     ball: [-5.0 + ax * c - ay * s, y + ax * s + ay * c],
                     direction_deg: heading,
                     distance_m: distance,

@@ -344,7 +344,7 @@ impl Kick {
         let looking = !matches!(step, ApproachStep::Walk(_));
         if looking != self.looking {
             log::debug!(
-                "kick: t {now:.2} {} ({step:?}, ball at ({:.3}, {:.3}), stop travel {travel:.3?})",
+                "kick: t {now:.2} {} ({step:?}, ball at ({:.3}, {:.3}), stop travel {travel:.3?}, walking at {:.3} m/s)",
                 if looking {
                     "near the place: stop"
                 } else {
@@ -352,6 +352,7 @@ impl Kick {
                 },
                 request.ball[0],
                 request.ball[1],
+                body.walk_velocity.forward_m_s,
             );
         }
         self.looking = looking;
