@@ -301,6 +301,17 @@ impl Observer {
         if let Some(last) = track.last {
             if settled && dt <= 0.2 && distance(last, at) > RELOCATION_M {
                 figures.relocations += 1;
+                log::info!(
+                    "t {:.2} ({}): {} {} moved by the referee from ({:.2}, {:.2}) to ({:.2}, {:.2})",
+                    now.time,
+                    now.mode,
+                    if robot.left { "left" } else { "right" },
+                    robot.unum,
+                    last[0],
+                    last[1],
+                    at[0],
+                    at[1]
+                );
             }
         }
         track.last = Some(at);
