@@ -2,8 +2,8 @@
 //! robot, `PREFIX.TEAM.UNUM`.
 
 use crate::run::RunError;
-use libero_world::eval_log::EvalLogger;
-use std::path::{Path, PathBuf};
+use libero_world::eval_log::{robot_log_path, EvalLogger};
+use std::path::Path;
 
 /// Whether an arena's robots start their evaluation logs afresh or write on at their end (a
 /// server restarted within a series: the runs before it stay in the logs).
@@ -16,7 +16,7 @@ pub enum Logs {
 impl Logs {
     /// The log of robot `unum` of `team` under `prefix`.
     pub fn open(self, prefix: &Path, team: &str, unum: u32) -> Result<EvalLogger, RunError> {
-        let path = log_path(prefix, team, unum);
+        let path = robot_log_path(prefix, team, unum);
         let logger = match self {
             Logs::Fresh => EvalLogger::create(&path),
             Logs::Continue => EvalLogger::append(&path),
@@ -28,13 +28,6 @@ impl Logs {
             ))
         })
     }
-}
-
-/// `PREFIX.TEAM.UNUM`.
-pub fn log_path(prefix: &Path, team: &str, unum: u32) -> PathBuf {
-    let mut name = prefix.as_os_str().to_owned();
-    name.push(format!(".{team}.{unum}"));
-    PathBuf::from(name)
 }
 
 #[cfg(test)]
@@ -54,7 +47,7 @@ mod tests {
         };
         write(Logs::Fresh, "first server");
         write(Logs::Continue, "second server");
-        let path = log_path(&prefix, "Libero", 7);
+        let path = robot_log_path(&prefix, "Libero", 7);
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
             "first server\nsecond server\n"

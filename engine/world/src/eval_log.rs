@@ -53,6 +53,14 @@ pub struct EvalLogger<W: Write = BufWriter<File>> {
     buffer: Vec<u8>,
 }
 
+/// One robot's log under a team's or a series' `prefix`: `PREFIX.TEAM.UNUM` (what
+/// `tools/eval_match.py` reads).
+pub fn robot_log_path(prefix: &Path, team: &str, unum: u32) -> std::path::PathBuf {
+    let mut name = prefix.as_os_str().to_owned();
+    name.push(format!(".{team}.{unum}"));
+    std::path::PathBuf::from(name)
+}
+
 impl EvalLogger<BufWriter<File>> {
     /// Create (truncate) the log file.
     pub fn create(path: &Path) -> std::io::Result<Self> {

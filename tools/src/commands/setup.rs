@@ -198,9 +198,7 @@ impl LogArgs {
     ) -> Result<(), Box<dyn std::error::Error>> {
         let Some(path) = &self.log else { return Ok(()) };
         let path = if shared {
-            let mut name = path.as_os_str().to_owned();
-            name.push(format!(".{team}.{unum}"));
-            PathBuf::from(name)
+            libero_world::eval_log::robot_log_path(path, team, unum)
         } else {
             path.clone()
         };
