@@ -63,7 +63,7 @@ pub fn walk_tunables(model: &RobotModel) -> Vec<Tunable> {
         ),
         scaled(tunable!(sway_m, 0.0, 0.06, walk.sway_m), length),
         tunable!(sway_phase_lead, 0.0, 0.4, walk.sway_phase_lead),
-        tunable!(arm_swing_deg_per_m, -200.0, 200.0, walk.arm_swing_deg_per_m),
+        tunable!(arm_swing_deg_per_m, -400.0, 400.0, walk.arm_swing_deg_per_m),
         tunable!(
             ankle_pitch_per_gyro,
             -0.3,
