@@ -138,6 +138,8 @@ pub struct Walk {
     kick_step_foot: Option<(Foot, f64)>,
     /// Kick steps begun since the walk was made.
     kick_steps: u32,
+    /// The lean added to `torso_lean_deg` for the executed command's acceleration [deg].
+    accel_lean_deg: f64,
 }
 
 /// Server cycle [s], used when the percept carries no usable time step.
@@ -161,6 +163,7 @@ impl Walk {
             angles: vec![0.0; model.joints.len()],
             kick_step_foot: None,
             kick_steps: 0,
+            accel_lean_deg: 0.0,
         })
     }
 
@@ -196,6 +199,13 @@ impl Walk {
         self.phase = Phase::Idle;
         self.gait = Gait::default();
         self.executed = Velocity::default();
+        self.accel_lean_deg = 0.0;
+    }
+
+    /// The torso's lean from vertical the walk holds now [deg]: the file's lean plus the
+    /// lean into the executed command's acceleration.
+    pub fn lean_deg(&self, p: &WalkParams) -> f64 {
+        p.torso_lean_deg + self.accel_lean_deg
     }
 
     /// One cycle. `request` = walk with this velocity; `None` = come to a stop. Writes the leg
@@ -213,6 +223,7 @@ impl Walk {
         };
         self.last_time = Some(world.time);
         let wanted = request.map(|v| clamp_command(v, p)).unwrap_or_default();
+        let forward_before = self.executed.forward_m_s;
         match self.phase {
             Phase::Idle if request.is_some() => self.phase = Phase::Settling(p.settle_s),
             Phase::Idle => {}
@@ -239,7 +250,7 @@ impl Walk {
                     } else {
                         // Leaning back, the next step lands further back to catch the body
                         // (and further forward when leaning forward).
-                        let tilt = Attitude::from_world(world).pitch_deg - p.torso_lean_deg;
+                        let tilt = Attitude::from_world(world).pitch_deg - self.lean_deg(p);
                         let stopping = request.is_none() && self.executed.is_zero();
                         let step = Step {
                             x: self.executed.forward_m_s * p.step_period_s
@@ -267,12 +278,26 @@ impl Walk {
             }
         }
         self.kick_step_foot = None;
+        self.follow_acceleration(forward_before, p, dt);
         let placements = if self.phase == Phase::Walking {
             self.gait.placements(p)
         } else {
             Gait::default().placements_at_rest(p)
         };
         self.solve(world, &placements, p, pose);
+    }
+
+    /// Move the acceleration lean towards `lean_per_accel_deg` times this cycle's change of
+    /// the executed forward speed (from `forward_before`), over one step period; standing, back
+    /// to none.
+    fn follow_acceleration(&mut self, forward_before: f64, p: &WalkParams, dt: f64) {
+        let accel = if self.phase == Phase::Walking {
+            (self.executed.forward_m_s - forward_before) / dt
+        } else {
+            0.0
+        };
+        let wanted = p.balance.lean_per_accel_deg * accel;
+        self.accel_lean_deg += (wanted - self.accel_lean_deg) * (dt / p.step_period_s).min(1.0);
     }
 
     fn solve(
@@ -282,8 +307,9 @@ impl Walk {
         p: &WalkParams,
         pose: &mut [f64],
     ) {
+        let lean_deg = self.lean_deg(p);
         let level_to_torso =
-            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -p.torso_lean_deg.to_radians());
+            UnitQuaternion::from_axis_angle(&Vector3::y_axis(), -lean_deg.to_radians());
         self.angles.copy_from_slice(pose);
         for (leg, sole) in self.legs.iter().zip(soles) {
             let in_level = Isometry3::from_parts(
@@ -299,7 +325,7 @@ impl Walk {
             }
         }
         let attitude = Attitude::from_world(world);
-        let c = corrections(&p.balance, &attitude, p.torso_lean_deg);
+        let c = corrections(&p.balance, &attitude, lean_deg);
         let c = if self.phase == Phase::Walking {
             c
         } else {

@@ -84,6 +84,11 @@ pub struct BalanceParams {
     /// fraction of the walking corrections damps the body's sway (0: none; absent: 0).
     #[serde(default)]
     pub rest_correction_scale: f64,
+    /// The torso leans into the walk's acceleration: this many degrees further forward per
+    /// m/s² of speeding up (back when slowing down), followed with a lag of one step period,
+    /// so the body is over the feet the gait's speed change needs (0: a fixed lean; absent: 0).
+    #[serde(default)]
+    pub lean_per_accel_deg: f64,
     /// Largest correction any joint gets from the loop [deg].
     pub max_correction_deg: f64,
 }
@@ -259,6 +264,12 @@ impl WalkParams {
             b.stop_capture_min_deg,
             0.0,
             30.0,
+        )?;
+        in_range(
+            &format!("{w}.balance.lean_per_accel_deg"),
+            b.lean_per_accel_deg,
+            0.0,
+            20.0,
         )?;
         in_range(
             &format!("{w}.balance.max_correction_deg"),

@@ -215,3 +215,41 @@ fn a_kick_step_begins_only_when_asked_of_the_foot_that_swings_next() {
     p.kick_step = None;
     assert_eq!(run(Some((Foot::Left, 0.0)), &p, &mut world).0, 0);
 }
+
+#[test]
+fn the_torso_leans_into_speeding_up_and_back_from_slowing_down() {
+    let model = RobotModel::builtin("T1").unwrap();
+    let mut p = crate::SkillParams::builtin(&model).unwrap().walk;
+    p.balance.lean_per_accel_deg = 6.0;
+    let mut world = libero_world::World::new(&model, "t", 1);
+    world.me.pitch_deg = p.torso_lean_deg;
+    let mut walk = Walk::new(&model).unwrap();
+    let mut pose = vec![0.0; model.joints.len()];
+    let mut cycle = 0;
+    let mut run = |walk: &mut Walk, request: Option<Velocity>, seconds: f64| {
+        for _ in 0..(seconds / NOMINAL_CYCLE_S) as usize {
+            cycle += 1;
+            world.time = cycle as f64 * NOMINAL_CYCLE_S;
+            walk.update(&world, request, &p, &mut pose);
+        }
+        walk.lean_deg(&p) - p.torso_lean_deg
+    };
+    let fast = Velocity {
+        forward_m_s: p.max_forward_m_s,
+        ..Default::default()
+    };
+    // Speeding up at the walk's acceleration: after a few step periods the lean is the
+    // acceleration's share.
+    let speeding_up = run(&mut walk, Some(fast), p.settle_s + 1.0);
+    let expected = p.balance.lean_per_accel_deg * p.accel_forward_m_s2;
+    assert!(
+        (speeding_up - expected).abs() < 0.1 * expected,
+        "{speeding_up}"
+    );
+    // At full speed none, slowing down it leans back, standing none again.
+    assert!(run(&mut walk, Some(fast), 2.0).abs() < 0.05);
+    let slowing = run(&mut walk, None, 0.5);
+    assert!(slowing < -0.5 * p.balance.lean_per_accel_deg * p.decel_forward_m_s2());
+    assert!(run(&mut walk, None, 3.0).abs() < 0.05);
+    assert!(!walk.is_stepping());
+}
