@@ -14,7 +14,7 @@ use crate::{BallEstimate, PlayerEstimate, SelfEstimate, Side, World};
 use serde::Serialize;
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 #[derive(Serialize)]
 struct Truth {
@@ -55,10 +55,10 @@ pub struct EvalLogger<W: Write = BufWriter<File>> {
 
 /// One robot's log under a team's or a series' `prefix`: `PREFIX.TEAM.UNUM` (what
 /// `tools/eval_match.py` reads).
-pub fn robot_log_path(prefix: &Path, team: &str, unum: u32) -> std::path::PathBuf {
+pub fn robot_log_path(prefix: &Path, team: &str, unum: u32) -> PathBuf {
     let mut name = prefix.as_os_str().to_owned();
     name.push(format!(".{team}.{unum}"));
-    std::path::PathBuf::from(name)
+    PathBuf::from(name)
 }
 
 impl EvalLogger<BufWriter<File>> {

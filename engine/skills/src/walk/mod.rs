@@ -204,7 +204,7 @@ impl Walk {
 
     /// The torso's lean from vertical the walk holds now [deg]: the file's lean plus the
     /// lean into the executed command's acceleration.
-    pub fn lean_deg(&self, p: &WalkParams) -> f64 {
+    fn lean_deg(&self, p: &WalkParams) -> f64 {
         p.torso_lean_deg + self.accel_lean_deg
     }
 
