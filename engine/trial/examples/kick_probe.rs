@@ -106,11 +106,13 @@ fn main() {
             )
         });
         println!(
-            "towards {:+6.1}° {:5.2} m {:+6.1}° (launch {:+5.1}°) kicked {} after {:4.1} s bumped {} fell {} | {c}",
+            "towards {:+6.1}° {:5.2} m {:+6.1}° (launch {:+5.1}°, {:+5.2} m off at {:.1} m) kicked {} after {:4.1} s bumped {} fell {} | {c}",
             s.direction_deg,
             o.distance_m,
             o.direction_error_deg,
             o.launch_error_deg.unwrap_or(f64::NAN),
+            o.miss_at_distance_m.unwrap_or(f64::NAN),
+            s.distance_m,
             o.kicked,
             o.time_to_kick_s.unwrap_or(f64::NAN),
             o.bumped,

@@ -54,6 +54,19 @@ pub struct KickOutcome {
     /// [`ESTIMATE_FRESH_S`] old): against `ball_in_robot_at_kick`, how well it saw where the
     /// ball lay.
     pub ball_estimate_at_kick: Option<[f64; 2]>,
+    /// Where the ball first lay the requested distance from where it was kicked: its offset
+    /// from the requested line there [m], left positive; `None` when it stopped short. A shot
+    /// is judged where it crosses the goal line and a pass where it meets its receiver; a long
+    /// kick curves on beyond them, so its rest point's direction (`direction_error_deg`) says
+    /// little of a shot from nearer than it rolls.
+    pub miss_at_distance_m: Option<f64>,
+}
+
+/// The offset [m] of `point` from the line through `from` in the field direction
+/// `direction_deg`, left of it positive.
+pub fn offset_from_line(from: [f64; 2], direction_deg: f64, point: [f64; 2]) -> f64 {
+    let (s, c) = direction_deg.to_radians().sin_cos();
+    c * (point[1] - from[1]) - s * (point[0] - from[0])
 }
 
 /// A sighting older than this at the kick's start is not the robot's estimate then [s] (vision
@@ -159,6 +172,8 @@ struct Progress {
     fell: bool,
     contact: Option<Contact>,
     launch: Option<[f64; 3]>,
+    /// The ball where it first lay the requested distance from where it was kicked.
+    crossing: Option<[f64; 3]>,
     /// For a kick that is not made: whether the ball was ever seen, the last kick state and
     /// where the robot was.
     ball_seen: bool,
@@ -277,6 +292,11 @@ pub fn kick_once(
                 p.launch = Some(b);
             }
         }
+        if let (Some(at), Some(b), None) = (p.ball_at_kick, truth_ball, p.crossing) {
+            if (b[0] - at[0]).hypot(b[1] - at[1]) >= setup.distance_m {
+                p.crossing = Some(b);
+            }
+        }
         if kick == KickState::Done && p.done_at.is_none() {
             p.done_at = Some(t);
         }
@@ -362,6 +382,10 @@ pub fn kick_once(
         launch_error_deg: p.ball_at_kick.zip(p.launch).map(|(a, b)| {
             wrap_deg((b[1] - a[1]).atan2(b[0] - a[0]).to_degrees() - setup.direction_deg)
         }),
+        miss_at_distance_m: p
+            .ball_at_kick
+            .zip(p.crossing)
+            .map(|(at, b)| offset_from_line([at[0], at[1]], setup.direction_deg, [b[0], b[1]])),
         ..Default::default()
     };
     if let (Some(start), Some(at_kick)) = (p.ball_start, p.ball_at_kick) {
@@ -390,6 +414,10 @@ pub struct KickSummary {
     pub falls: usize,
     pub bumps: usize,
     pub mean_time_to_kick_s: f64,
+    /// Kicks that rolled the requested distance, and their mean |offset| from the requested
+    /// line there [m] ([`KickOutcome::miss_at_distance_m`]).
+    pub reached_distance: usize,
+    pub mean_abs_miss_m: f64,
 }
 
 impl KickSummary {
@@ -404,6 +432,10 @@ impl KickSummary {
             }
         };
         let times: Vec<f64> = outcomes.iter().filter_map(|o| o.time_to_kick_s).collect();
+        let misses: Vec<f64> = outcomes
+            .iter()
+            .filter_map(|o| o.miss_at_distance_m.map(f64::abs))
+            .collect();
         Self {
             kicks: outcomes.len(),
             kicked: outcomes.iter().filter(|o| o.kicked).count(),
@@ -417,6 +449,8 @@ impl KickSummary {
             falls: outcomes.iter().filter(|o| o.fell).count(),
             bumps: outcomes.iter().filter(|o| o.bumped).count(),
             mean_time_to_kick_s: times.iter().sum::<f64>() / times.len().max(1) as f64,
+            reached_distance: misses.len(),
+            mean_abs_miss_m: misses.iter().sum::<f64>() / misses.len().max(1) as f64,
         }
     }
 }
@@ -462,4 +496,21 @@ pub fn kicks(
     }
     let summary = KickSummary::of(&outcomes);
     Ok((outcomes, summary))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::offset_from_line;
+
+    #[test]
+    fn a_point_left_of_the_asked_line_is_off_it_by_a_positive_distance() {
+        // Along +x from (1, 1): a point 2 m on and 0.5 m to the left.
+        assert!((offset_from_line([1.0, 1.0], 0.0, [3.0, 1.5]) - 0.5).abs() < 1e-12);
+        // Towards -y (-90°): "left" is +x.
+        assert!((offset_from_line([0.0, 0.0], -90.0, [0.3, -4.0]) - 0.3).abs() < 1e-12);
+        // Along the diagonal, a point on it is on the line.
+        assert!(offset_from_line([-2.0, 1.0], 45.0, [1.0, 4.0]).abs() < 1e-12);
+        // Right of a line towards 180°: a point at larger y.
+        assert!(offset_from_line([0.0, 0.0], 180.0, [-3.0, 1.0]) < 0.0);
+    }
 }

@@ -227,12 +227,15 @@ fn bench_kick(params: &SkillParams, args: &BenchArgs, model: RobotModel) -> CliR
         let (_, s) = kick_bench::kicks(&mut trial, params, count, seed, distance)?;
         println!(
             "kick {name} {} kicks: mean distance {:.1} m (min {:.1}), mean |direction error| {:.1}° \
-             (max {:.1}°), {} falls, {} bumped, {} not kicked, mean time to kick {:.1} s",
+             (max {:.1}°), {} rolled the {distance} m asked, {:.2} m off the line there (mean \
+             |offset|), {} falls, {} bumped, {} not kicked, mean time to kick {:.1} s",
             s.kicks,
             s.mean_distance_m,
             s.min_distance_m,
             s.mean_abs_direction_error_deg,
             s.max_abs_direction_error_deg,
+            s.reached_distance,
+            s.mean_abs_miss_m,
             s.falls,
             s.bumps,
             s.kicks - s.kicked,
