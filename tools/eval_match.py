@@ -79,7 +79,8 @@ def flow(tracks, every):
             continue
         due = t + every
         now = rows[t]
-        sightings = [r["ball"] for r in now.values() if r.get("ball") and r["ball"]["last_seen_time"] is not None]
+        sightings = [r["ball"] for r in now.values()
+                     if r.get("ball") and r["ball"]["last_seen_time"] is not None]
         ball = max(sightings, key=lambda b: b["last_seen_time"])["position"] if sightings else [0.0, 0.0]
         mode = next(iter(now.values()))["play_mode"]
         players = []

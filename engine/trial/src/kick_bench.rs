@@ -63,10 +63,27 @@ pub struct KickOutcome {
 }
 
 /// The offset [m] of `point` from the line through `from` in the field direction
-/// `direction_deg`, left of it positive.
+/// `direction_deg`, left of it positive: its sideways coordinate as seen from `from` facing
+/// along the line.
 pub fn offset_from_line(from: [f64; 2], direction_deg: f64, point: [f64; 2]) -> f64 {
-    let (s, c) = direction_deg.to_radians().sin_cos();
-    c * (point[1] - from[1]) - s * (point[0] - from[0])
+    Pose::new(Global::new(from[0], from[1]), direction_deg)
+        .robot(Global::new(point[0], point[1]))
+        .y
+}
+
+/// Keep in `first` the first ball position more than `beyond_m` from where it lay at the
+/// kick (`at_kick`).
+fn note_first_beyond(
+    first: &mut Option<[f64; 3]>,
+    at_kick: Option<[f64; 3]>,
+    ball: Option<[f64; 3]>,
+    beyond_m: f64,
+) {
+    if let (None, Some(at), Some(b)) = (*first, at_kick, ball) {
+        if (b[0] - at[0]).hypot(b[1] - at[1]) >= beyond_m {
+            *first = Some(b);
+        }
+    }
 }
 
 /// A sighting older than this at the kick's start is not the robot's estimate then [s] (vision
@@ -287,16 +304,9 @@ pub fn kick_once(
                 p.contact = tracer.contact();
             }
         }
-        if let (Some(at), Some(b), None) = (p.ball_at_kick, truth_ball, p.launch) {
-            if (b[0] - at[0]).hypot(b[1] - at[1]) > LAUNCH_M {
-                p.launch = Some(b);
-            }
-        }
-        if let (Some(at), Some(b), None) = (p.ball_at_kick, truth_ball, p.crossing) {
-            if (b[0] - at[0]).hypot(b[1] - at[1]) >= setup.distance_m {
-                p.crossing = Some(b);
-            }
-        }
+        let at_kick = p.ball_at_kick;
+        note_first_beyond(&mut p.launch, at_kick, truth_ball, LAUNCH_M);
+        note_first_beyond(&mut p.crossing, at_kick, truth_ball, setup.distance_m);
         if kick == KickState::Done && p.done_at.is_none() {
             p.done_at = Some(t);
         }
