@@ -1,10 +1,13 @@
 //! Experiment helper: kicks from the kicking place (or from around the ball) and their outcome.
 //! `cargo run --release -p libero-trial --example kick_probe -- <count> <distance_m> [params.ron]`
 //! `CI_SIDES=1`: the live test's three approaches, repeated. `AROUND=1`: seeded setups from all round the ball (as `libero bench kick`); `SEED=n`;
-//! `PLACE=1`: seeded setups at the kicking place within the approach's tolerances;
+//! `PLACE=1`: seeded setups at the kicking place within the approach's tolerances; with
+//! either, `SHOTS=1`: directions within 25 deg of the +x axis, as shots go;
 //! `BACK=d`: the robot d metres behind the kicking place; `ONLY=i,j`: only those setups. `ROBOT=nao_typeN`: a NAO on SimSpark.
 use libero_skills::SkillParams;
-use libero_trial::kick_bench::{kick_once, setups, setups_at_place, KickSetup, KickSummary};
+use libero_trial::kick_bench::{
+    kick_once, setups, setups_at_place, KickDirections, KickSetup, KickSummary,
+};
 use libero_trial::Trial;
 
 fn main() {
@@ -27,10 +30,16 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(1);
+    // `SHOTS=1`: directions within 25 deg of the +x axis, as shots go.
+    let directions = if std::env::var("SHOTS").is_ok() {
+        KickDirections::Shots
+    } else {
+        KickDirections::AllRound
+    };
     let list: Vec<KickSetup> = if std::env::var("AROUND").is_ok() {
-        setups(count, seed, distance)
+        setups(count, seed, distance, directions)
     } else if std::env::var("PLACE").is_ok() {
-        setups_at_place(count, seed, distance, &params.kick.approach)
+        setups_at_place(count, seed, distance, &params.kick.approach, directions)
     } else if std::env::var("CI_SIDES").is_ok() {
         // The three approaches of the live test `long_kicks_from_three_sides_...`.
         let s = |robot: [f64; 3], ball: [f64; 2], direction_deg: f64| KickSetup {

@@ -21,7 +21,7 @@
 use libero_skills::getup::Keyframe;
 use libero_skills::{BodyIntent, Intent, SkillParams};
 use libero_trial::cmaes::CmaEs;
-use libero_trial::kick_bench::{kick_once, setups, KICK_LIMIT_S};
+use libero_trial::kick_bench::{kick_once, setups, KickDirections, KICK_LIMIT_S};
 use libero_trial::{Episode, Trial};
 use std::sync::{Arc, Mutex};
 
@@ -164,7 +164,7 @@ fn skill_kicks(
     count: usize,
     seed: u64,
 ) -> Vec<(f64, f64, bool)> {
-    setups(count, seed, 8.0)
+    setups(count, seed, 8.0, KickDirections::AllRound)
         .into_iter()
         .map(
             |setup| match kick_once(trial, params, setup, KICK_LIMIT_S) {

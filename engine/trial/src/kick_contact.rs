@@ -110,9 +110,10 @@ impl ContactTracer {
                 a.y.atan2(a.x).to_degrees()
             };
             log::trace!(
-                "t {:.2} torso yaw {:.1} feet yaw {:.1} {:.1} feet {:.3?} {:.3?} ball {:.3?} gyro z {:.0}",
+                "t {:.2} torso yaw {:.1} (estimate {:.1}) feet yaw {:.1} {:.1} feet {:.3?} {:.3?} ball {:.3?} gyro z {:.0}",
                 world.time,
                 axis.y.atan2(axis.x).to_degrees(),
+                world.me.yaw_deg,
                 yaw(&feet[0]),
                 yaw(&feet[1]),
                 feet[0].translation.vector.as_slice(),

@@ -8,6 +8,7 @@ use crate::fleet::{run_all, Bundle, Executor, ExecutorArgs, Job, Next, REPORT};
 use clap::{Args, ValueEnum};
 use libero_model::RobotModel;
 use libero_skills::SkillParams;
+use libero_trial::kick_bench::KickDirections;
 use libero_trial::optimize::kick::{select_kick_tunables, KickObjective, DEFAULT_KICK_TUNABLES};
 use libero_trial::optimize::{
     optimize, select_walk_tunables, write_back, write_back_for_type, Evaluator, LocalServers,
@@ -31,6 +32,32 @@ impl Skill {
         match self {
             Skill::Walk => "walk",
             Skill::Kick => "kick",
+        }
+    }
+}
+
+/// The field directions of the kicks every candidate makes.
+#[derive(Clone, Copy, ValueEnum)]
+pub enum KickDirectionsArg {
+    /// Any direction.
+    AllRound,
+    /// Within 25° of the +x axis, as shots at their goal go (the ball's roll curves by its
+    /// direction to the field's axes).
+    Shots,
+}
+
+impl KickDirectionsArg {
+    fn as_arg(self) -> &'static str {
+        match self {
+            Self::AllRound => "all-round",
+            Self::Shots => "shots",
+        }
+    }
+
+    fn directions(self) -> KickDirections {
+        match self {
+            Self::AllRound => KickDirections::AllRound,
+            Self::Shots => KickDirections::Shots,
         }
     }
 }
@@ -78,6 +105,9 @@ pub struct ObjectiveArgs {
     /// Kicks every candidate makes (`kick`; more kicks, less luck, slower generations).
     #[arg(long, default_value_t = 6)]
     pub kicks: usize,
+    /// The field directions of those kicks (`kick`).
+    #[arg(long, value_enum, default_value_t = KickDirectionsArg::AllRound)]
+    pub directions: KickDirectionsArg,
     /// The parameters searched (default: the skill's usual set; `walk`: names as in the
     /// parameter file's walk section, `kick`: `long.strike_height_m` and the like).
     #[arg(long, value_delimiter = ',')]
@@ -182,7 +212,11 @@ fn setup(args: &ObjectiveArgs) -> Result<Search, Box<dyn std::error::Error>> {
             (
                 select_kick_tunables(&names)?,
                 Box::new(KickObjective::at_place(
-                    args.kicks, args.seed, distance, &start,
+                    args.kicks,
+                    args.seed,
+                    distance,
+                    &start,
+                    args.directions.directions(),
                 )),
             )
         }
@@ -375,6 +409,8 @@ impl FleetEvaluator {
             seeds.join(","),
             "--kicks".into(),
             o.kicks.to_string(),
+            "--directions".into(),
+            o.directions.as_arg().into(),
             "--tunables".into(),
             names.join(","),
             "--report".into(),

@@ -107,7 +107,7 @@ impl MotionPlan {
         // The stance leg gives way further than commanded once the kicking foot is off the
         // ground: aim where the ball will then be in the torso frame, not where a rigid body
         // would have it.
-        let sag = self.foot.sign() * m.support_sag_m;
+        let sag = self.foot.sign() * (m.support_sag_m + m.swing_outward_m);
         let along = |behind: f64| {
             let p = b - d * (self.ball_radius_m + self.toe_m + behind);
             let y =
@@ -228,6 +228,29 @@ mod tests {
             right.foot_yaw_deg
         );
         assert!(left.swing_end[1] < straight.swing_end[1] - 0.01);
+    }
+
+    #[test]
+    fn an_outward_swing_runs_beside_the_ball_away_from_the_support_foot() {
+        let t1 = libero_model::RobotModel::builtin("T1").unwrap();
+        let p = crate::SkillParams::builtin(&t1).unwrap();
+        let mut m = p.kick.long.clone();
+        let plan = |foot: Foot, m: &KickMotion| {
+            let ball = [0.36, foot.sign() * 0.10];
+            MotionPlan::new(foot, ball, 0.0, 0.11, 0.12, m, &p.walk)
+        };
+        m.swing_outward_m = 0.0;
+        let centred = [Foot::Left, Foot::Right].map(|f| plan(f, &m));
+        m.swing_outward_m = 0.02;
+        let outward = [Foot::Left, Foot::Right].map(|f| plan(f, &m));
+        for (c, o) in centred.iter().zip(&outward) {
+            let sign = c.foot.sign();
+            for (a, b) in [(c.windup, o.windup), (c.swing_end, o.swing_end)] {
+                assert!((sign * (b[1] - a[1]) - 0.02).abs() < 1e-9, "{a:?} {b:?}");
+                assert_eq!((a[0], a[2]), (b[0], b[2]));
+            }
+            assert_eq!(c.foot_yaw_deg, o.foot_yaw_deg);
+        }
     }
 
     #[test]

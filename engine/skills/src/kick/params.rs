@@ -250,6 +250,10 @@ pub struct KickMotion {
     pub strike_height_m: f64,
     /// Largest lateral shift of the kicking foot towards the ball from its neutral place [m].
     pub max_reach_across_m: f64,
+    /// The swing's line runs this far outside the ball's centre, away from the support foot
+    /// [m]: where the toe meets the ball across its face steers the launch.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub swing_outward_m: f64,
     /// Largest direction correction made by turning the kicking foot [deg].
     pub max_foot_turn_deg: f64,
     /// Gyro damping on the stance ankle: pitch and roll correction per deg/s of the torso's
@@ -432,6 +436,7 @@ impl KickMotion {
         in_range(&p("follow_through_m"), self.follow_through_m, 0.0, 0.5)?;
         in_range(&p("strike_height_m"), self.strike_height_m, 0.0, 0.3)?;
         in_range(&p("max_reach_across_m"), self.max_reach_across_m, 0.0, 0.2)?;
+        in_range(&p("swing_outward_m"), self.swing_outward_m, -0.05, 0.05)?;
         in_range(&p("max_foot_turn_deg"), self.max_foot_turn_deg, 0.0, 45.0)?;
         in_range(
             &p("stance_pitch_per_gyro"),
@@ -461,4 +466,8 @@ impl KickMotion {
 
 fn whole_curve() -> f64 {
     1.0
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }

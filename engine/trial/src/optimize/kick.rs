@@ -6,7 +6,7 @@
 
 use super::{select_tunables, tunable, Objective, Tunable};
 use crate::episode::{Trial, TrialError};
-use crate::kick_bench::{kick_once, setups_at_place, KickOutcome, KickSetup};
+use crate::kick_bench::{kick_once, setups_at_place, KickDirections, KickOutcome, KickSetup};
 use libero_skills::SkillParams;
 
 /// The long-kick numbers searched by default: contact geometry and swing.
@@ -39,6 +39,12 @@ pub fn kick_tunables() -> Vec<Tunable> {
         ),
         tunable!("long.swing_s", 0.06, 0.3, kick.long.swing_s),
         tunable!("long.support_sag_m", 0.0, 0.12, kick.long.support_sag_m),
+        tunable!(
+            "long.swing_outward_m",
+            -0.05,
+            0.05,
+            kick.long.swing_outward_m
+        ),
         tunable!("long.weight_shift_m", 0.0, 0.12, kick.long.weight_shift_m),
         tunable!("long.kick_lean_deg", -5.0, 15.0, kick.long.kick_lean_deg),
         tunable!(
@@ -89,10 +95,17 @@ pub struct KickObjective {
 }
 
 impl KickObjective {
-    /// `count` seeded kicks asking for `distance_m` from around the kicking place of `params`.
-    pub fn at_place(count: usize, seed: u64, distance_m: f64, params: &SkillParams) -> Self {
+    /// `count` seeded kicks asking for `distance_m` from around the kicking place of `params`,
+    /// in `directions`.
+    pub fn at_place(
+        count: usize,
+        seed: u64,
+        distance_m: f64,
+        params: &SkillParams,
+        directions: KickDirections,
+    ) -> Self {
         Self {
-            setups: setups_at_place(count, seed, distance_m, &params.kick.approach),
+            setups: setups_at_place(count, seed, distance_m, &params.kick.approach, directions),
         }
     }
 }
