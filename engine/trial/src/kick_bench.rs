@@ -105,10 +105,9 @@ const SEARCH_TURN_DEG_S: f64 = 40.0;
 const LOST_AFTER_S: f64 = 4.0;
 
 /// The field directions seeded kicks go in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum KickDirections {
     /// Any direction.
-    #[default]
     AllRound,
     /// Within [`SHOT_HALF_WIDTH_DEG`] of the +x axis, as shots at their goal go. The ball's
     /// roll curves by its direction to the field's axes, so a kick straight all round can be

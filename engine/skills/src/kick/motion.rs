@@ -106,13 +106,14 @@ impl MotionPlan {
         // line through the ball centre along the kick, as far across as the foot reaches.
         // The stance leg gives way further than commanded once the kicking foot is off the
         // ground: aim where the ball will then be in the torso frame, not where a rigid body
-        // would have it.
-        let sag = self.foot.sign() * (m.support_sag_m + m.swing_outward_m);
+        // would have it. Both that and `swing_outward_m` move the line away from the support
+        // foot.
+        let outward = self.foot.sign() * (m.support_sag_m + m.swing_outward_m);
         let along = |behind: f64| {
             let p = b - d * (self.ball_radius_m + self.toe_m + behind);
             let y =
                 p.y.clamp(home_y - m.max_reach_across_m, home_y + m.max_reach_across_m);
-            [p.x, y + sag]
+            [p.x, y + outward]
         };
         let [wx, wy] = along(m.windup_back_m);
         let [ex, ey] = along(-m.follow_through_m);
